@@ -1,0 +1,1 @@
+//! Fixture loading and error statistics for the validation tests.
