@@ -6,31 +6,18 @@
 //!
 //! | tier | Sun | Moon | planets |
 //! |---|---|---|---|
-//! | [`Precision::Low`] | Meeus ch. 25 low accuracy | short ELP series | mean Keplerian elements |
-//! | [`Precision::Standard`] | VSOP87D truncated | Meeus ch. 47, all terms | VSOP87D truncated |
-//! | [`Precision::High`] | VSOP87D full | Chebyshev fit to DE421 (1900–2050) | VSOP87D full |
+//! | `Precision::Low` | Meeus ch. 25 low accuracy | short ELP series | mean Keplerian elements |
+//! | `Precision::Standard` | VSOP87D truncated | Meeus ch. 47, all terms | VSOP87D truncated |
+//! | `Precision::High` | VSOP87D full | Chebyshev fit to DE421 (1900–2050) | VSOP87D full |
 //!
-//! Conventions (time scales, frames, units) follow `shared/spec/conventions.md`:
-//! apparent geocentric places are referred to the true equator and equinox of
-//! date, azimuth is measured from North through East, refraction is never part
-//! of an altitude unless a name says "refracted".
+//! Conventions (time scales, frames, units) follow the project's
+//! `spec/conventions.md`: apparent geocentric places are referred to the true
+//! equator and equinox of date, azimuth is measured from North through East,
+//! refraction is never part of an altitude unless a name says "refracted".
 //!
-//! The crate is `#![no_std]` (math through `libm`); the `std` feature (default)
+//! The crate is `no_std` (math through `libm`); the `std` feature (default)
 //! adds `std::error::Error` impls, `chrono` converts from `chrono::DateTime`,
 //! `serde` derives serialisation for the public value types.
-//!
-#![no_std]` (math through `libm`); the `std` feature (default)
-//! adds `std::error::Error` impls, `chrono` converts from `chrono::DateTime`,
-//! `serde` derives serialisation for the public value types.
-//!
-//! ```
-//! use himmel_astro::{Body, Observer, Precision, UtcDateTime, Instant, Sky};
-//! let t = Instant::from_utc(&UtcDateTime::new(2024, 4, 8, 18, 42, 0.0).unwrap()).unwrap();
-//! let dallas = Observer::new(32.7767, -96.797, 140.0).unwrap();
-//! let sky = Sky::new(Precision::Standard, &t);
-//! let sun = sky.topocentric(Body::Sun, &dallas).unwrap();
-//! assert!(sun.alt_deg() > 60.0);
-//! ```
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
