@@ -34,3 +34,10 @@ pub mod planets;
 pub mod time;
 
 pub use error::AstroError;
+
+pub mod ephemeris;
+pub mod observe;
+
+pub use ephemeris::{Apparent, Body, Cached, Ephemeris, Epoch, Manual, Precision, Tiered};
+pub use observe::{Observer, Sky, Topocentric};
+pub use time::{Instant, UtcDateTime};

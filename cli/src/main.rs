@@ -1,1 +1,110 @@
-fn main() {}
+//! `himmel` — the command line of the Himmel sky system.
+//!
+//! The contract (subcommands, flags, JSON field names, exit codes) is the
+//! project's `spec/cli.md`. Exit codes: 0 success, 2 invalid input,
+//! 3 resource unavailable, 1 other failure. Errors are one line on stderr.
+
+mod ephemeris_cmd;
+mod timearg;
+
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand, ValueEnum};
+
+/// A failure with its exit code and one-line message.
+#[derive(Debug)]
+pub struct CliError {
+    code: u8,
+    message: String,
+}
+
+impl CliError {
+    /// Invalid input (exit code 2).
+    pub fn input(message: impl Into<String>) -> Self {
+        CliError {
+            code: 2,
+            message: message.into(),
+        }
+    }
+    /// Any other failure (exit code 1).
+    pub fn other(message: impl Into<String>) -> Self {
+        CliError {
+            code: 1,
+            message: message.into(),
+        }
+    }
+}
+
+#[derive(Parser, Debug)]
+#[command(
+    name = "himmel",
+    version,
+    about = "Where are the Sun, the Moon, the planets — from here, now?",
+    propagate_version = true
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Output format of data-printing subcommands.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum, Default)]
+pub enum Format {
+    /// A readable table.
+    #[default]
+    Table,
+    /// One JSON document on stdout (JSON Lines for batch mode).
+    Json,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Apparent positions of the Sun, Moon and planets for an observer.
+    #[command(allow_negative_numbers = true)]
+    Ephemeris(ephemeris_cmd::EphemerisArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            use clap::error::ErrorKind;
+            match e.kind() {
+                ErrorKind::DisplayHelp
+                | ErrorKind::DisplayVersion
+                | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand => {
+                    let _ = e.print();
+                    return if e.kind() == ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand {
+                        ExitCode::from(2)
+                    } else {
+                        ExitCode::SUCCESS
+                    };
+                }
+                _ => {
+                    let rendered = e.render().to_string();
+                    let first = rendered
+                        .lines()
+                        .find(|l| !l.trim().is_empty())
+                        .unwrap_or("error: invalid arguments");
+                    let first = first.trim();
+                    if first.starts_with("error:") {
+                        eprintln!("{first}");
+                    } else {
+                        eprintln!("error: {first}");
+                    }
+                    return ExitCode::from(2);
+                }
+            }
+        }
+    };
+    let result = match cli.command {
+        Command::Ephemeris(args) => ephemeris_cmd::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", e.message.replace('\n', " "));
+            ExitCode::from(e.code)
+        }
+    }
+}

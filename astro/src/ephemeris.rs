@@ -1,0 +1,509 @@
+//! Position providers behind one trait.
+//!
+//! An [`Ephemeris`] turns a body and an [`Epoch`] into the body's apparent
+//! geocentric place ([`Apparent`]). Three kinds exist:
+//!
+//! * [`Tiered`] — the computed ephemeris at a [`Precision`] tier;
+//! * [`Cached`] — wraps another provider and reuses its results while the
+//!   instant stays within a caller-chosen tolerance (for per-frame rendering,
+//!   where the Moon moves 0.5″ per second and a frame lasts 16 ms);
+//! * [`Manual`] — positions supplied by the caller (art-directed skies).
+//!
+//! The reduction from theory to apparent place follows Meeus (Astronomical
+//! Algorithms, 2nd ed.): ch. 25 (Sun), ch. 33 (planets: light time, FK5
+//! correction, aberration, nutation), ch. 47 (Moon). The high-tier Moon comes
+//! from a Chebyshev fit to JPL DE421 and is reduced by vector algebra: light
+//! time, frame bias, IAU 1976 precession, IAU 1980 nutation.
+
+use core::cell::Cell;
+
+use glam::DVec3;
+
+use crate::error::AstroError;
+use crate::frames::{self, Nutation, NutationModel};
+use crate::moon;
+use crate::planets::{self, Planet, Series};
+use crate::time::Instant;
+use crate::units::*;
+
+/// A solar-system body that the ephemerides know.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Body {
+    /// The Sun.
+    Sun,
+    /// The Moon.
+    Moon,
+    /// Mercury.
+    Mercury,
+    /// Venus.
+    Venus,
+    /// Mars.
+    Mars,
+    /// Jupiter.
+    Jupiter,
+    /// Saturn.
+    Saturn,
+}
+
+impl Body {
+    /// Every body, in the order of the command-line contract.
+    pub const ALL: [Body; 7] = [
+        Body::Sun,
+        Body::Moon,
+        Body::Mercury,
+        Body::Venus,
+        Body::Mars,
+        Body::Jupiter,
+        Body::Saturn,
+    ];
+
+    /// Lower-case English name (`"sun"`, `"moon"`, `"mars"`, …).
+    pub const fn name(self) -> &'static str {
+        match self {
+            Body::Sun => "sun",
+            Body::Moon => "moon",
+            Body::Mercury => "mercury",
+            Body::Venus => "venus",
+            Body::Mars => "mars",
+            Body::Jupiter => "jupiter",
+            Body::Saturn => "saturn",
+        }
+    }
+
+    /// Parses a lower-case name as written by [`Body::name`] (ASCII case is ignored).
+    pub fn from_name(name: &str) -> Option<Body> {
+        Body::ALL
+            .into_iter()
+            .find(|b| b.name().eq_ignore_ascii_case(name))
+    }
+
+    /// The planet of the VSOP87 theory, or `None` for the Sun and the Moon.
+    pub const fn planet(self) -> Option<Planet> {
+        match self {
+            Body::Mercury => Some(Planet::Mercury),
+            Body::Venus => Some(Planet::Venus),
+            Body::Mars => Some(Planet::Mars),
+            Body::Jupiter => Some(Planet::Jupiter),
+            Body::Saturn => Some(Planet::Saturn),
+            Body::Sun | Body::Moon => None,
+        }
+    }
+}
+
+/// Accuracy tier. Errors and costs of each tier against JPL DE421 are
+/// measured and published in the README (`cargo run -p himmel-tests --release
+/// --bin accuracy-table`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Precision {
+    /// Meeus ch. 25 low-accuracy Sun (0.01°), a short lunar series, mean
+    /// Keplerian planets, the short nutation series.
+    Low,
+    /// VSOP87D truncated, Meeus ch. 47 Moon with all its terms, IAU 1980 nutation.
+    #[default]
+    Standard,
+    /// Full VSOP87D, the Moon from a Chebyshev fit to DE421 (1900–2050; the
+    /// standard series outside that span), IAU 1980 nutation.
+    High,
+}
+
+impl Precision {
+    /// Every tier, cheapest first.
+    pub const ALL: [Precision; 3] = [Precision::Low, Precision::Standard, Precision::High];
+
+    /// `"low"`, `"standard"` or `"high"`.
+    pub const fn name(self) -> &'static str {
+        match self {
+            Precision::Low => "low",
+            Precision::Standard => "standard",
+            Precision::High => "high",
+        }
+    }
+
+    /// Parses a name as written by [`Precision::name`].
+    pub fn from_name(name: &str) -> Option<Precision> {
+        Precision::ALL
+            .into_iter()
+            .find(|p| p.name().eq_ignore_ascii_case(name))
+    }
+
+    /// The nutation series consistent with this tier.
+    pub const fn nutation_model(self) -> NutationModel {
+        match self {
+            Precision::Low => NutationModel::Short,
+            Precision::Standard | Precision::High => NutationModel::Iau1980,
+        }
+    }
+}
+
+/// Everything about an instant that every body's reduction shares: the
+/// instant itself, nutation, obliquity and sidereal time. Compute it once
+/// per instant and reuse it for all bodies and observers.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Epoch {
+    /// The instant (TT and UT1).
+    pub instant: Instant,
+    /// Julian centuries of TT since J2000.0.
+    pub t: JulianCenturies,
+    /// Nutation in longitude and obliquity (IAU 1980 or the short series).
+    pub nutation: Nutation,
+    /// Which nutation series produced [`Epoch::nutation`].
+    pub nutation_model: NutationModel,
+    /// Mean obliquity of the ecliptic of date (Meeus eq. 22.2).
+    pub mean_obliquity: Radians,
+    /// True obliquity ε = ε₀ + Δε.
+    pub true_obliquity: Radians,
+    /// Greenwich apparent sidereal time, radians in [0, 2π).
+    pub gast: Radians,
+}
+
+impl Epoch {
+    /// Prepares the reduction quantities of `instant` with the given nutation series.
+    pub fn new(instant: &Instant, nutation_model: NutationModel) -> Epoch {
+        let t = instant.centuries_tt();
+        let nutation = frames::nutation(t, nutation_model);
+        let mean_obliquity = frames::mean_obliquity(t);
+        let true_obliquity = mean_obliquity + nutation.deps;
+        let gast = crate::time::gast(instant.jd_ut1, nutation.dpsi, true_obliquity);
+        Epoch {
+            instant: *instant,
+            t,
+            nutation,
+            nutation_model,
+            mean_obliquity,
+            true_obliquity,
+            gast,
+        }
+    }
+
+    /// Rotation from ICRF (GCRS axes) to the true equator and equinox of date:
+    /// frame bias, IAU 1976 precession, IAU 1980 nutation.
+    pub fn icrf_to_true_of_date(&self) -> glam::DMat3 {
+        frames::nutation_matrix(self.mean_obliquity, &self.nutation)
+            * frames::precession_matrix(self.t)
+            * frames::frame_bias_matrix()
+    }
+}
+
+/// An apparent geocentric place: true equator and equinox of date, including
+/// light time, annual aberration, precession and nutation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct Apparent {
+    /// Right ascension, radians in [0, 2π).
+    pub ra: Radians,
+    /// Declination, radians in [−π/2, π/2].
+    pub dec: Radians,
+    /// Distance from the Earth's centre (light-time corrected), km.
+    pub distance_km: Km,
+    /// Apparent ecliptic longitude (true ecliptic and equinox of date), radians in [0, 2π).
+    pub ecl_lon: Radians,
+    /// Apparent ecliptic latitude, radians.
+    pub ecl_lat: Radians,
+}
+
+impl Apparent {
+    /// Builds an apparent place from ecliptic coordinates of date.
+    pub fn from_ecliptic(lon: Radians, lat: Radians, distance_km: Km, epoch: &Epoch) -> Apparent {
+        let lon = wrap_tau(lon);
+        let (ra, dec) = frames::ecliptic_to_equatorial(lon, lat, epoch.true_obliquity);
+        Apparent {
+            ra,
+            dec,
+            distance_km,
+            ecl_lon: lon,
+            ecl_lat: lat,
+        }
+    }
+
+    /// Builds an apparent place from equatorial coordinates of date.
+    pub fn from_equatorial(ra: Radians, dec: Radians, distance_km: Km, epoch: &Epoch) -> Apparent {
+        let ra = wrap_tau(ra);
+        let (ecl_lon, ecl_lat) = frames::equatorial_to_ecliptic(ra, dec, epoch.true_obliquity);
+        Apparent {
+            ra,
+            dec,
+            distance_km,
+            ecl_lon,
+            ecl_lat,
+        }
+    }
+
+    /// Geocentric position vector, km, true equator and equinox of date.
+    pub fn vector_km(&self) -> DVec3 {
+        frames::spherical_to_vector(self.ra, self.dec, self.distance_km)
+    }
+}
+
+/// A source of apparent geocentric places.
+pub trait Ephemeris {
+    /// The nutation series the provider is consistent with; an [`Epoch`]
+    /// built for it should use this model.
+    fn nutation_model(&self) -> NutationModel {
+        NutationModel::Iau1980
+    }
+
+    /// Apparent geocentric place of `body` at `epoch`.
+    fn apparent(&self, body: Body, epoch: &Epoch) -> Result<Apparent, AstroError>;
+}
+
+impl<E: Ephemeris + ?Sized> Ephemeris for &E {
+    fn nutation_model(&self) -> NutationModel {
+        (**self).nutation_model()
+    }
+    fn apparent(&self, body: Body, epoch: &Epoch) -> Result<Apparent, AstroError> {
+        (**self).apparent(body, epoch)
+    }
+}
+
+/// The computed ephemeris at one [`Precision`] tier.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct Tiered(pub Precision);
+
+impl Ephemeris for Tiered {
+    fn nutation_model(&self) -> NutationModel {
+        self.0.nutation_model()
+    }
+
+    fn apparent(&self, body: Body, epoch: &Epoch) -> Result<Apparent, AstroError> {
+        Ok(match (body, self.0) {
+            (Body::Sun, Precision::Low) => sun_low(epoch),
+            (Body::Sun, Precision::Standard) => sun_vsop87(epoch, Series::Truncated),
+            (Body::Sun, Precision::High) => sun_vsop87(epoch, Series::Full),
+            (Body::Moon, Precision::Low) => moon_series(epoch, moon::low(epoch.t)),
+            (Body::Moon, Precision::Standard) => moon_series(epoch, moon::meeus47(epoch.t)),
+            (Body::Moon, Precision::High) => moon_de421(epoch)
+                .unwrap_or_else(|| moon_series(epoch, moon::meeus47(epoch.t))),
+            (_, tier) => {
+                let planet = body.planet().ok_or(AstroError::BodyUnavailable {
+                    body: body.name(),
+                })?;
+                planet_apparent(epoch, planet, tier)
+            }
+        })
+    }
+}
+
+/// Sun, low tier: Meeus ch. 25 low accuracy (apparent longitude, β = 0).
+fn sun_low(epoch: &Epoch) -> Apparent {
+    let (lon, r) = planets::sun_low(epoch.instant.jd_tt);
+    Apparent::from_ecliptic(lon, 0.0, r * KM_PER_AU, epoch)
+}
+
+/// Sun from VSOP87D (Meeus ch. 25, "higher accuracy"): geometric λ = L + 180°,
+/// β = −B, FK5 correction (eq. 32.3), annual aberration (eq. 23.2, which for
+/// the Sun reduces to the classic −20.4898″/R), nutation in longitude.
+fn sun_vsop87(epoch: &Epoch, series: Series) -> Apparent {
+    let (l, b, r) = planets::heliocentric(Planet::Earth, epoch.instant.jd_tt, series);
+    let sun_lon = wrap_tau(l + core::f64::consts::PI);
+    let (dl, db) = planets::fk5_correction(sun_lon, -b, epoch.t);
+    let (lon, lat) = (sun_lon + dl, -b + db);
+    let (al, ab) = annual_aberration(lon, lat, sun_lon, epoch.t);
+    Apparent::from_ecliptic(
+        lon + al + epoch.nutation.dpsi,
+        lat + ab,
+        r * KM_PER_AU,
+        epoch,
+    )
+}
+
+/// Annual aberration in ecliptic coordinates, Meeus eq. 23.2 (with the
+/// e-terms): Δλ, Δβ to add, radians. `sun_lon` is the Sun's true geometric
+/// longitude. Heliocentric Keplerian motion of the Earth: the neglected
+/// barycentric and lunar terms amount to about 0.01″.
+fn annual_aberration(
+    lon: Radians,
+    lat: Radians,
+    sun_lon: Radians,
+    t: JulianCenturies,
+) -> (Radians, Radians) {
+    const KAPPA: Radians = 20.495_52 * ARCSEC;
+    let e = 0.016_708_634 - 0.000_042_037 * t - 0.000_000_126_7 * t * t;
+    let perihelion = (102.937_35 + 1.719_46 * t + 0.000_46 * t * t) * DEG;
+    let cos_lat = libm::cos(lat);
+    // cos β vanishes only at the ecliptic poles, where longitude is undefined
+    // anyway; keep the quotient finite.
+    let cos_lat = if cos_lat.abs() < 1e-12 { 1e-12 } else { cos_lat };
+    let dlon = (-KAPPA * libm::cos(sun_lon - lon) + e * KAPPA * libm::cos(perihelion - lon)) / cos_lat;
+    let dlat = -KAPPA
+        * libm::sin(lat)
+        * (libm::sin(sun_lon - lon) - e * libm::sin(perihelion - lon));
+    (dlon, dlat)
+}
+
+/// Planets, Meeus ch. 33: heliocentric positions of the planet (at t − τ) and
+/// the Earth (at t), light time iterated to convergence, FK5 correction,
+/// annual aberration, nutation in longitude. Light deflection by the Sun
+/// (< 0.1″ more than 10° from the Sun) is neglected.
+fn planet_apparent(epoch: &Epoch, planet: Planet, tier: Precision) -> Apparent {
+    let jd = epoch.instant.jd_tt;
+    let helio = |p: Planet, jd: JulianDay| match tier {
+        Precision::Low => planets::heliocentric_low(p, jd),
+        Precision::Standard => planets::heliocentric(p, jd, Series::Truncated),
+        Precision::High => planets::heliocentric(p, jd, Series::Full),
+    };
+    let (le, be, re) = helio(Planet::Earth, jd);
+    let earth = frames::spherical_to_vector(le, be, re);
+    let mut tau = 0.0;
+    let mut geo = DVec3::ZERO;
+    // Three iterations bring τ to < 1 ms even for Saturn; the planets move
+    // less than 0.001″ in that time.
+    for _ in 0..3 {
+        let (l, b, r) = helio(planet, jd - tau);
+        geo = frames::spherical_to_vector(l, b, r) - earth;
+        tau = geo.length() * LIGHT_DAYS_PER_AU;
+    }
+    let (lon, lat, delta) = frames::vector_to_spherical(geo);
+    let sun_lon = wrap_tau(le + core::f64::consts::PI);
+    let (lon, lat) = if tier == Precision::Low {
+        (lon, lat)
+    } else {
+        let (dl, db) = planets::fk5_correction(lon, lat, epoch.t);
+        (lon + dl, lat + db)
+    };
+    let (al, ab) = annual_aberration(lon, lat, sun_lon, epoch.t);
+    Apparent::from_ecliptic(
+        lon + al + epoch.nutation.dpsi,
+        lat + ab,
+        delta * KM_PER_AU,
+        epoch,
+    )
+}
+
+/// Moon from an ELP series (Meeus ch. 47): the series already includes the
+/// constant light-time term; the apparent longitude adds nutation. Aberration
+/// does not enter: for a body this close, the Earth's displacement during the
+/// light time cancels the annual aberration to within micro-arcseconds.
+fn moon_series(epoch: &Epoch, (lon, lat, dist): (Radians, Radians, Km)) -> Apparent {
+    Apparent::from_ecliptic(lon + epoch.nutation.dpsi, lat, dist, epoch)
+}
+
+/// Moon from the DE421 fit: geometric position at t − τ (the light-time and
+/// annual-aberration effects of the Earth's motion cancel, see
+/// [`moon_series`]), then ICRF → true equator and equinox of date.
+fn moon_de421(epoch: &Epoch) -> Option<Apparent> {
+    let jd = epoch.instant.jd_tt;
+    let mut r = moon::de421(jd)?;
+    for _ in 0..2 {
+        let tau = r.length() / SPEED_OF_LIGHT_KM_S / SECONDS_PER_DAY;
+        r = moon::de421(jd - tau)?;
+    }
+    let tod = epoch.icrf_to_true_of_date() * r;
+    let (ra, dec, dist) = frames::vector_to_spherical(tod);
+    Some(Apparent::from_equatorial(ra, dec, dist, epoch))
+}
+
+/// Reuses the results of another provider while the instant stays within a
+/// tolerance: a renderer asking for the Moon 60 times a second can keep one
+/// result for, say, a second (0.5″ of lunar motion).
+///
+/// The cache holds one result per body; it is not `Sync` (use one per thread).
+#[derive(Debug)]
+pub struct Cached<E> {
+    inner: E,
+    tolerance_days: f64,
+    slots: [Cell<Option<(JulianDay, Apparent)>>; 7],
+}
+
+impl<E: Ephemeris> Cached<E> {
+    /// Wraps `inner`; results are reused while |ΔTT| ≤ `tolerance`.
+    pub fn new(inner: E, tolerance: Seconds) -> Result<Self, AstroError> {
+        let tolerance = AstroError::check_range("cache tolerance (s)", tolerance, 0.0, 1e9)?;
+        Ok(Cached {
+            inner,
+            tolerance_days: tolerance / SECONDS_PER_DAY,
+            slots: Default::default(),
+        })
+    }
+
+    /// The wrapped provider.
+    pub fn inner(&self) -> &E {
+        &self.inner
+    }
+
+    /// Forgets every cached result.
+    pub fn clear(&self) {
+        for s in &self.slots {
+            s.set(None);
+        }
+    }
+}
+
+fn slot_index(body: Body) -> usize {
+    Body::ALL.iter().position(|b| *b == body).unwrap_or(0)
+}
+
+impl<E: Ephemeris> Ephemeris for Cached<E> {
+    fn nutation_model(&self) -> NutationModel {
+        self.inner.nutation_model()
+    }
+
+    fn apparent(&self, body: Body, epoch: &Epoch) -> Result<Apparent, AstroError> {
+        let slot = &self.slots[slot_index(body)];
+        let jd = epoch.instant.jd_tt;
+        if let Some((at, place)) = slot.get() {
+            if (jd - at).abs() <= self.tolerance_days {
+                return Ok(place);
+            }
+        }
+        let place = self.inner.apparent(body, epoch)?;
+        slot.set(Some((jd, place)));
+        Ok(place)
+    }
+}
+
+/// Caller-supplied positions for art-directed skies: each body keeps the
+/// apparent right ascension, declination and distance it was given, whatever
+/// the instant. Bodies without a position report
+/// [`AstroError::BodyUnavailable`].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct Manual {
+    places: [Option<(Radians, Radians, Km)>; 7],
+}
+
+impl Manual {
+    /// An empty provider.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Sets `body` to the apparent place (degrees, km). Declination must be
+    /// within ±90° and the distance positive.
+    pub fn set(
+        &mut self,
+        body: Body,
+        ra_deg: Degrees,
+        dec_deg: Degrees,
+        distance_km: Km,
+    ) -> Result<&mut Self, AstroError> {
+        let ra = AstroError::check_range("right ascension", ra_deg, -360.0, 360.0)?;
+        let dec = AstroError::check_range("declination", dec_deg, -90.0, 90.0)?;
+        let d = AstroError::check_range("distance", distance_km, 1e-3, 1e20)?;
+        self.places[slot_index(body)] = Some((wrap_tau(ra * DEG), dec * DEG, d));
+        Ok(self)
+    }
+
+    /// Builder form of [`Manual::set`].
+    pub fn with(
+        mut self,
+        body: Body,
+        ra_deg: Degrees,
+        dec_deg: Degrees,
+        distance_km: Km,
+    ) -> Result<Self, AstroError> {
+        self.set(body, ra_deg, dec_deg, distance_km)?;
+        Ok(self)
+    }
+}
+
+impl Ephemeris for Manual {
+    fn apparent(&self, body: Body, epoch: &Epoch) -> Result<Apparent, AstroError> {
+        let (ra, dec, d) = self.places[slot_index(body)].ok_or(AstroError::BodyUnavailable {
+            body: body.name(),
+        })?;
+        Ok(Apparent::from_equatorial(ra, dec, d, epoch))
+    }
+}
