@@ -321,7 +321,8 @@ mod tests {
     /// same IERS finals2000A.all (skyfield-data 7.0.0), printed by
     /// `python3 tools/gen_delta_t.py --check`:
     /// (year, month, day, hour, minute, second, jd_tt, delta_t_s).
-    const SKYFIELD: [(i32, u8, u8, u8, u8, f64, f64, f64); 16] = [
+    type SkyfieldRow = (i32, u8, u8, u8, u8, f64, f64, f64);
+    const SKYFIELD: [SkyfieldRow; 16] = [
         (1973, 6, 1, 0, 0, 0.0, 2441834.5005113888, 43.8763273),
         (
             1977,
@@ -415,10 +416,19 @@ mod tests {
     #[test]
     fn matches_skyfield_1973_2025() {
         let mut worst: f64 = 0.0;
-        for &(.., jd_tt, dt) in SKYFIELD.iter() {
+        let mut worst_tt: f64 = 0.0;
+        for &(y, mo, d, h, mi, s, jd_tt, dt) in SKYFIELD.iter() {
             worst = worst.max((delta_t(jd_tt) - dt).abs());
+            // The whole UTC → Instant path agrees too.
+            let utc = crate::time::UtcDateTime::new(y, mo, d, h, mi, s).unwrap();
+            let i = crate::time::Instant::from_utc(&utc).unwrap();
+            worst_tt = worst_tt.max((i.jd_tt - jd_tt).abs() * 86_400.0);
+            worst = worst.max((i.delta_t() - dt).abs() - 5e-5);
         }
+        // ΔT to 1 µs; TT to the 20 µs rounding of an f64 Julian day (and the
+        // instant's ΔT, a difference of two such days, to 50 µs).
         assert!(worst < 1e-6, "worst {worst} s");
+        assert!(worst_tt < 3e-5, "worst TT {worst_tt} s");
     }
 
     #[test]

@@ -53,7 +53,7 @@ pub(crate) const LEAP_SECONDS: [(i32, i32); 28] = [
 /// pass the day's 0h to get the offset that applies through its end.
 /// Source: IERS Bulletin C.
 pub fn tai_minus_utc(jd_utc: JulianDay) -> Option<Seconds> {
-    if !(jd_utc >= JD_UTC_1972) {
+    if jd_utc.is_nan() || jd_utc < JD_UTC_1972 {
         return None;
     }
     let mjd = jd_utc - MJD_ZERO;

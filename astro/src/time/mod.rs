@@ -22,6 +22,7 @@
 mod calendar;
 mod delta_t;
 #[rustfmt::skip]
+#[allow(clippy::approx_constant)] // ΔT = 6.28 s in 1768 is data, not 2π
 mod delta_t_data;
 mod leap_seconds;
 mod sidereal;
@@ -274,7 +275,7 @@ impl Instant {
     /// UT1; from 1972 to the IERS table end UTC follows from TT through the
     /// leap seconds; after the table, from UT1 (undoing the faded UT1 − UTC).
     pub fn to_utc(&self) -> UtcDateTime {
-        if !(self.jd_ut1 >= JD_UTC_1972) {
+        if self.jd_ut1.is_nan() || self.jd_ut1 < JD_UTC_1972 {
             return utc_from_plain_jd(self.jd_ut1);
         }
         // Leap-second era: seconds of TAI past a UTC day's 0h, renormalised
