@@ -45,8 +45,11 @@ fn fade(alt_deg: f64) -> f64 {
 /// Source: Saemundsson (1986), Meeus, *Astronomical Algorithms* 2nd ed.,
 /// eq. 16.4: R = 1.02′ / tan(h + 10.3°/(h + 5.11°)), plus Meeus' +0.0019279′
 /// so that R = 0 at the zenith, times (P/1010)(283/(273 + T)). Continuous and
-/// finite for every altitude; see the [module documentation](self) for the
-/// behaviour below −1°.
+/// finite for every altitude: below [`REFRACTION_FLOOR_DEG`] (−1°) the formula
+/// is evaluated at the floor and faded to 0 by a smoothstep over
+/// [`REFRACTION_FADE_DEG`] (2°), so R = 0 below −3°; the apparent altitude
+/// stays monotonic in the true one. Altitudes are clamped to ±90°; pressure
+/// to ≥ 0 hPa and temperature to ≥ −200 °C.
 pub fn refraction_true_to_apparent(
     alt_true: Radians,
     pressure_hpa: f64,

@@ -248,11 +248,13 @@ fn historic_delta_t(jd_tt: JulianDay) -> Seconds {
 /// ΔT = TT − UT1 in seconds at the TT Julian day `jd_tt`.
 ///
 /// Observed values where they exist (IERS daily series 1973 onward — its
-/// final year being IERS predictions —, USNO half-yearly table 1657–1973),
-/// Espenak & Meeus (2006) polynomials outside them and the Morrison &
-/// Stephenson (2004) parabola beyond −1999 … +3000, joined continuously as
-/// described in the [module documentation](self). Finite for every finite
-/// input; NaN in, NaN out.
+/// final year being IERS predictions, see [`first_predicted_jd_utc`] —, USNO
+/// half-yearly table 1657–1973, both interpolated linearly), Espenak & Meeus
+/// (2006) polynomials outside them ([`espenak_meeus_2006`]) and the Morrison &
+/// Stephenson (2004) parabola beyond −1999 … +3000. The offsets between a
+/// table end and the polynomial fade out linearly over [`JOIN_FADE_YEARS`]
+/// (100 years), so ΔT is continuous everywhere (the tests probe −5000 …
+/// +5000 for jumps). Finite for every finite input; NaN in, NaN out.
 pub fn delta_t(jd_tt: JulianDay) -> Seconds {
     let hist_first = HISTORIC_DELTA_T[0].0;
     let daily_first = daily_first_jd_tt();

@@ -304,11 +304,21 @@ impl Instant {
         }
         // After the table: UTC = UT1 − faded (UT1 − UTC); the fade changes by
         // under 3e-8 s per second, so a short fixed-point iteration converges.
-        let mut jd_utc = self.jd_ut1;
+        // Seconds of day are kept apart from the large day number.
+        let mut day0 = day0_of(self.jd_ut1);
+        let ut1_sod = (self.jd_ut1 - day0) * SECONDS_PER_DAY;
+        let mut sod = ut1_sod;
         for _ in 0..3 {
-            jd_utc = self.jd_ut1 - post_table_ut1_minus_utc(jd_utc) / SECONDS_PER_DAY;
+            sod = ut1_sod - post_table_ut1_minus_utc(day0 + sod / SECONDS_PER_DAY);
         }
-        utc_from_plain_jd(jd_utc)
+        if sod < 0.0 {
+            day0 -= 1.0;
+            sod += SECONDS_PER_DAY;
+        } else if sod >= SECONDS_PER_DAY {
+            day0 += 1.0;
+            sod -= SECONDS_PER_DAY;
+        }
+        UtcDateTime::from_day0_and_seconds(day0, sod)
     }
 }
 
@@ -478,9 +488,8 @@ mod tests {
             assert!(diff.abs() < 1e-3, "{t:?} -> {back:?}");
             worst = worst.max(diff.abs());
         }
-        // Bounded by the f64 resolution of a Julian day (2^-32 d ≈ 20 µs),
-        // doubled for the two conversions.
-        assert!(worst < 4.1e-5, "worst {worst} s");
+        // Bounded by the rounding of one f64 Julian day (2^-32 d ≈ 20 µs).
+        assert!(worst < 2.1e-5, "worst {worst} s");
     }
 
     #[test]
