@@ -4,6 +4,7 @@ use crate::units::{JulianCenturies, Radians, ARCSEC, DEG};
 
 /// Nutation in longitude Δψ and in obliquity Δε, radians.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Nutation {
     /// Nutation in longitude Δψ, radians.
     pub dpsi: Radians,
@@ -13,6 +14,7 @@ pub struct Nutation {
 
 /// Which nutation series to evaluate.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub enum NutationModel {
     /// IAU 1980 theory, the 63 terms of Meeus Table 22.A (terms below
     /// 0.0003″ omitted); ~0.001″ from the full 106-term series.

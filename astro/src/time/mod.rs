@@ -50,6 +50,7 @@ pub const POST_TABLE_FADE_DAYS: f64 = 365.25;
 /// (0 = 1 BC); the calendar is Julian before 1582 October 15 and Gregorian
 /// from then on. Construct with [`UtcDateTime::new`], which validates.
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct UtcDateTime {
     /// Year (astronomical numbering).
     pub year: i32,
@@ -178,6 +179,7 @@ impl UtcDateTime {
 /// An f64 Julian day resolves about 40 µs near the present (half an ulp,
 /// 20 µs, is the rounding of any conversion into it).
 #[derive(Debug, Clone, Copy, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Instant {
     /// Julian day, Terrestrial Time.
     pub jd_tt: JulianDay,
