@@ -4,7 +4,7 @@
 1. astro/data/moon_check.json — 2000 random TT instants 1900..2050 with the
    apparent geocentric Moon from Skyfield + JPL DE421 (de421.bsp of PyPI
    skyfield-data): ecliptic longitude/latitude of the true ecliptic and
-   equinox of date, distance, and Skyfield's IAU 2000A nutation in longitude
+   equinox of date, geometric distance between the centres, and Skyfield's IAU 2000A nutation in longitude
    Δψ at the same instant, so that a test can compare Meeus ch. 47
    (mean equinox of date) as λ + Δψ, β.
    Skyfield's apparent place includes light time and annual aberration; for
@@ -63,7 +63,11 @@ def meeus_fixture():
     rng = np.random.default_rng(47)
     jd = np.sort(rng.uniform(JD_1900, JD_2050, 2000))
     t = ts.tt_jd(jd)
-    lon, lat, _, _, dist = apparent(moon, t)
+    lon, lat, _, _, _ = apparent(moon, t)
+    # Geometric distance between the centres at t. The astrometric/apparent
+    # vector's length is not it: it spans the Earth's barycentric motion
+    # during the light time (~38 km).
+    dist = (moon - earth).at(t).distance().km
     dpsi, _ = iau2000a_radians(t)
     rows = [[round(float(jd[i]), 6), float(np.degrees(lon[i])), float(np.degrees(lat[i])),
              float(dist[i]), float(dpsi[i] * ASEC)] for i in range(len(jd))]
@@ -71,7 +75,7 @@ def meeus_fixture():
         "source": "Skyfield + JPL DE421: earth.at(t).observe(moon).apparent().frame_latlon(ecliptic_frame); "
                   "dpsi = skyfield.nutationlib.iau2000a_radians(t)",
         "generator": "tools/gen_moon_check.py",
-        "columns": ["jd_tt", "lon_true_of_date_deg", "lat_deg", "distance_km", "dpsi_arcsec"],
+        "columns": ["jd_tt", "lon_true_of_date_deg", "lat_deg", "geometric_distance_km", "dpsi_arcsec"],
     }, rows)
 
 
@@ -83,7 +87,8 @@ def libration_fixture():
     rows = []
     for j in jd:
         t = ts.tt_jd(j)
-        m = apparent(moon, t)
+        m = list(apparent(moon, t))
+        m[4] = (moon - earth).at(t).distance().km
         s = apparent(sun, t)
         dpsi, deps = iau2000a_radians(t)
         eps = mean_obliquity(t.tdb) / ASEC + deps
