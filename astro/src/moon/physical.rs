@@ -241,3 +241,224 @@ pub fn physical(a: &MoonSunApparent) -> MoonPhysical {
         axis_pa,
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::units::{J2000, TAU};
+    use std::vec::Vec;
+
+    /// Ecliptic (λ, β) of date from (α, δ) and the obliquity (Meeus eqs.
+    /// 13.1, 13.2), to fill the Sun's ecliptic place of the Meeus examples.
+    fn ecliptic(ra: f64, dec: f64, eps: f64) -> (f64, f64) {
+        let lon = libm::atan2(ra.sin() * eps.cos() + dec.tan() * eps.sin(), ra.cos());
+        let lat = safe_asin(dec.sin() * eps.cos() - dec.cos() * eps.sin() * ra.sin());
+        (wrap_tau(lon), lat)
+    }
+
+    /// Meeus Examples 48.a and 53.a: the Moon on 1992 April 12, 0h TD.
+    fn example_1992_april_12() -> MoonSunApparent {
+        let eps = 23.440_636 * DEG;
+        let (sun_ra, sun_dec) = (20.6579 * DEG, 8.6964 * DEG);
+        let (sun_lon, sun_lat) = ecliptic(sun_ra, sun_dec, eps);
+        MoonSunApparent {
+            moon_lon: 133.167_265 * DEG,
+            moon_lat: -3.229_126 * DEG,
+            moon_ra: 134.688_470 * DEG,
+            moon_dec: 13.768_368 * DEG,
+            moon_distance_km: 368_409.7,
+            sun_lon,
+            sun_lat,
+            sun_ra,
+            sun_dec,
+            sun_distance_km: 149_971_520.0,
+            dpsi: 0.004_610 * DEG,
+            true_obliquity: eps,
+            t: (2_448_724.5 - J2000) / 36_525.0,
+        }
+    }
+
+    #[test]
+    fn meeus_example_48a() {
+        let p = physical(&example_1992_april_12());
+        // Meeus: ψ = 110.7929°, i = 69.0756°, k = 0.6786, χ = 285.0°.
+        assert!(
+            (p.elongation / DEG - 110.7929).abs() < 2e-4,
+            "{}",
+            p.elongation / DEG
+        );
+        assert!(
+            (p.phase_angle / DEG - 69.0756).abs() < 2e-4,
+            "{}",
+            p.phase_angle / DEG
+        );
+        assert!((p.illuminated_fraction - 0.6786).abs() < 5e-5);
+        assert!(
+            (p.bright_limb_pa / DEG - 285.0).abs() < 0.05,
+            "{}",
+            p.bright_limb_pa / DEG
+        );
+    }
+
+    #[test]
+    fn meeus_example_53a() {
+        let a = example_1992_april_12();
+        let lib = librations(&a);
+        // Meeus: l′ = −1.206°, b′ = +4.194°, l″ = −0.025°, b″ = +0.006°.
+        assert!(
+            (lib.optical_lon / DEG - -1.206).abs() < 5e-4,
+            "{}",
+            lib.optical_lon / DEG
+        );
+        assert!(
+            (lib.optical_lat / DEG - 4.194).abs() < 5e-4,
+            "{}",
+            lib.optical_lat / DEG
+        );
+        assert!(
+            (lib.physical_lon / DEG - -0.025).abs() < 5e-4,
+            "{}",
+            lib.physical_lon / DEG
+        );
+        assert!(
+            (lib.physical_lat / DEG - 0.006).abs() < 5e-4,
+            "{}",
+            lib.physical_lat / DEG
+        );
+        // Meeus: l = −1.23°, b = +4.20°, P = 15.08°.
+        let p = physical(&a);
+        assert!((p.libration_lon / DEG - -1.23).abs() < 5e-3);
+        assert!((p.libration_lat / DEG - 4.20).abs() < 5e-3);
+        assert!(
+            (p.axis_pa / DEG - 15.08).abs() < 5e-3,
+            "{}",
+            p.axis_pa / DEG
+        );
+    }
+
+    /// Against Astronomy Engine 2.1.19 (`Libration`: Meeus ch. 53 optical +
+    /// physical librations from its own lunar theory; `Illumination`: phase
+    /// angle and fraction from its own Sun and Moon), with our inputs from
+    /// Skyfield + DE421 — both written by tools/gen_moon_check.py into
+    /// astro/data/moon_libration_check.json (20 instants 1900–2050).
+    #[test]
+    fn against_astronomy_engine() {
+        let rows = super::super::de421::tests::fixture_rows(include_str!(
+            "../../data/moon_libration_check.json"
+        ));
+        assert_eq!(rows.len(), 20);
+        let (mut dl, mut db, mut di, mut dk): (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>) =
+            Default::default();
+        for r in &rows {
+            let a = MoonSunApparent {
+                moon_lon: r[1],
+                moon_lat: r[2],
+                moon_ra: r[3],
+                moon_dec: r[4],
+                moon_distance_km: r[5],
+                sun_lon: r[6],
+                sun_lat: r[7],
+                sun_ra: r[8],
+                sun_dec: r[9],
+                sun_distance_km: r[10],
+                dpsi: r[11],
+                true_obliquity: r[12],
+                t: r[13],
+            };
+            let p = physical(&a);
+            // Geocentric librations never exceed about 8° in l and 7° in b.
+            assert!(p.libration_lon.abs() < 9.0 * DEG && p.libration_lat.abs() < 8.0 * DEG);
+            dl.push(wrap_pi(p.libration_lon - r[14] * DEG).abs() / DEG);
+            db.push((p.libration_lat - r[15] * DEG).abs() / DEG);
+            di.push((p.phase_angle / DEG - r[16]).abs());
+            dk.push((p.illuminated_fraction - r[17]).abs());
+        }
+        let max = |v: &Vec<f64>| v.iter().cloned().fold(0.0, f64::max);
+        std::println!(
+            "vs Astronomy Engine: max |Δl| {:.4}°, |Δb| {:.4}°, |Δi| {:.4}°, |Δk| {:.5}",
+            max(&dl),
+            max(&db),
+            max(&di),
+            max(&dk)
+        );
+        assert!(max(&dl) < 0.003 && max(&db) < 0.003);
+        assert!(max(&di) < 0.02 && max(&dk) < 2e-4);
+    }
+
+    fn with_places(moon_ra: f64, moon_dec: f64, sun_ra: f64, sun_dec: f64) -> MoonSunApparent {
+        let eps = 23.44 * DEG;
+        let (moon_lon, moon_lat) = ecliptic(moon_ra, moon_dec, eps);
+        let (sun_lon, sun_lat) = ecliptic(sun_ra, sun_dec, eps);
+        MoonSunApparent {
+            moon_lon,
+            moon_lat,
+            moon_ra,
+            moon_dec,
+            moon_distance_km: 384_400.0,
+            sun_lon,
+            sun_lat,
+            sun_ra,
+            sun_dec,
+            sun_distance_km: 1.496e8,
+            dpsi: 0.0,
+            true_obliquity: eps,
+            t: 0.1,
+        }
+    }
+
+    fn assert_sane(p: &MoonPhysical) {
+        for v in [
+            p.phase_angle,
+            p.illuminated_fraction,
+            p.elongation,
+            p.bright_limb_pa,
+            p.libration_lon,
+            p.libration_lat,
+            p.axis_pa,
+        ] {
+            assert!(v.is_finite(), "{p:?}");
+        }
+        assert!((0.0..=core::f64::consts::PI).contains(&p.phase_angle));
+        assert!((0.0..=core::f64::consts::PI).contains(&p.elongation));
+        assert!((0.0..=1.0).contains(&p.illuminated_fraction));
+        assert!((0.0..TAU).contains(&p.bright_limb_pa));
+        assert!((0.0..TAU).contains(&p.axis_pa));
+        assert!((-core::f64::consts::PI..core::f64::consts::PI).contains(&p.libration_lon));
+        assert!(p.libration_lat.abs() < 1.6);
+    }
+
+    /// New and full Moon exactly (Sun and Moon collinear with the Earth):
+    /// i = 180° / 0°, k = 0 / 1, everything finite.
+    #[test]
+    fn new_and_full_moon_are_finite() {
+        let (ra, dec) = (1.0, 0.3);
+        let new = physical(&with_places(ra, dec, ra, dec));
+        assert_sane(&new);
+        assert!((new.phase_angle - core::f64::consts::PI).abs() < 1e-12);
+        assert!(new.illuminated_fraction < 1e-12 && new.elongation < 1e-12);
+        let full = physical(&with_places(ra, dec, ra + core::f64::consts::PI, -dec));
+        assert_sane(&full);
+        assert!(full.phase_angle < 1e-7 && full.illuminated_fraction > 1.0 - 1e-12);
+    }
+
+    /// The Moon at a celestial pole (outside its real range, but the
+    /// formulas must not break there) and near it.
+    #[test]
+    fn moon_at_the_celestial_poles_is_finite() {
+        for dec in [90.0, -90.0, 89.999_999, -89.999_999] {
+            for ra in [0.0, 1.0, 4.0] {
+                assert_sane(&physical(&with_places(ra, dec * DEG, 0.5, 0.2)));
+            }
+        }
+    }
+
+    /// χ is the position angle of the Sun seen from the Moon: a Sun due
+    /// east of the Moon on the equator gives 90°, due west 270°.
+    #[test]
+    fn bright_limb_points_to_the_sun() {
+        let east = physical(&with_places(1.0, 0.0, 1.5, 0.0));
+        assert!((east.bright_limb_pa - 90.0 * DEG).abs() < 1e-12);
+        let west = physical(&with_places(1.0, 0.0, 0.5, 0.0));
+        assert!((west.bright_limb_pa - 270.0 * DEG).abs() < 1e-12);
+    }
+}
