@@ -63,6 +63,8 @@ def body_record(t, observer, name, target):
     alt, az, tdist = topo.altaz()
     rec = {
         'ra_deg': ra._degrees, 'dec_deg': dec.degrees, 'distance_km': dist.km,
+        # Geometric distance between centres at t (no light time).
+        'geometric_distance_km': (target - earth).at(t).distance().km,
         'ecl_lon_deg': lon.degrees, 'ecl_lat_deg': lat.degrees,
         'alt_deg': alt.degrees, 'az_deg': az.degrees, 'topo_distance_km': tdist.km,
     }

@@ -275,12 +275,13 @@ impl Ephemeris for Tiered {
             (Body::Sun, Precision::High) => sun_vsop87(epoch, Series::Full),
             (Body::Moon, Precision::Low) => moon_series(epoch, moon::low(epoch.t)),
             (Body::Moon, Precision::Standard) => moon_series(epoch, moon::meeus47(epoch.t)),
-            (Body::Moon, Precision::High) => moon_de421(epoch)
-                .unwrap_or_else(|| moon_series(epoch, moon::meeus47(epoch.t))),
+            (Body::Moon, Precision::High) => {
+                moon_de421(epoch).unwrap_or_else(|| moon_series(epoch, moon::meeus47(epoch.t)))
+            }
             (_, tier) => {
-                let planet = body.planet().ok_or(AstroError::BodyUnavailable {
-                    body: body.name(),
-                })?;
+                let planet = body
+                    .planet()
+                    .ok_or(AstroError::BodyUnavailable { body: body.name() })?;
                 planet_apparent(epoch, planet, tier)
             }
         })
@@ -326,11 +327,15 @@ fn annual_aberration(
     let cos_lat = libm::cos(lat);
     // cos β vanishes only at the ecliptic poles, where longitude is undefined
     // anyway; keep the quotient finite.
-    let cos_lat = if cos_lat.abs() < 1e-12 { 1e-12 } else { cos_lat };
-    let dlon = (-KAPPA * libm::cos(sun_lon - lon) + e * KAPPA * libm::cos(perihelion - lon)) / cos_lat;
-    let dlat = -KAPPA
-        * libm::sin(lat)
-        * (libm::sin(sun_lon - lon) - e * libm::sin(perihelion - lon));
+    let cos_lat = if cos_lat.abs() < 1e-12 {
+        1e-12
+    } else {
+        cos_lat
+    };
+    let dlon =
+        (-KAPPA * libm::cos(sun_lon - lon) + e * KAPPA * libm::cos(perihelion - lon)) / cos_lat;
+    let dlat =
+        -KAPPA * libm::sin(lat) * (libm::sin(sun_lon - lon) - e * libm::sin(perihelion - lon));
     (dlon, dlat)
 }
 
@@ -501,9 +506,8 @@ impl Manual {
 
 impl Ephemeris for Manual {
     fn apparent(&self, body: Body, epoch: &Epoch) -> Result<Apparent, AstroError> {
-        let (ra, dec, d) = self.places[slot_index(body)].ok_or(AstroError::BodyUnavailable {
-            body: body.name(),
-        })?;
+        let (ra, dec, d) = self.places[slot_index(body)]
+            .ok_or(AstroError::BodyUnavailable { body: body.name() })?;
         Ok(Apparent::from_equatorial(ra, dec, d, epoch))
     }
 }

@@ -155,7 +155,10 @@ impl Topocentric {
     /// Altitude including standard refraction (1010 hPa, 10 °C; Saemundsson,
     /// Meeus eq. 16.4), degrees.
     pub fn alt_refracted_deg(&self) -> Degrees {
-        self.alt_refracted(frames::STANDARD_PRESSURE_HPA, frames::STANDARD_TEMPERATURE_C) / DEG
+        self.alt_refracted(
+            frames::STANDARD_PRESSURE_HPA,
+            frames::STANDARD_TEMPERATURE_C,
+        ) / DEG
     }
     /// Altitude including refraction for the given pressure (hPa) and temperature (°C), radians.
     pub fn alt_refracted(&self, pressure_hpa: f64, temperature_c: f64) -> Radians {

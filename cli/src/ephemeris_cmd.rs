@@ -42,7 +42,9 @@ pub struct EphemerisArgs {
 /// Checks a finite value against a range, naming the flag in the error.
 fn check(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, String> {
     if !v.is_finite() {
-        Err(format!("{flag} {v} is not a finite number; expected a value in [{min}, {max}]"))
+        Err(format!(
+            "{flag} {v} is not a finite number; expected a value in [{min}, {max}]"
+        ))
     } else if v < min || v > max {
         Err(format!("{flag} {v} is outside [{min}, {max}]"))
     } else {
@@ -123,7 +125,9 @@ pub fn run(args: &EphemerisArgs) -> Result<(), CliError> {
     let doc = compute(&req, &bodies, precision).map_err(CliError::input)?;
     let mut out = std::io::stdout().lock();
     let text = match args.format {
-        Format::Json => serde_json::to_string_pretty(&doc).map_err(|e| CliError::other(e.to_string()))?,
+        Format::Json => {
+            serde_json::to_string_pretty(&doc).map_err(|e| CliError::other(e.to_string()))?
+        }
         Format::Table => table(&doc),
     };
     writeln!(out, "{text}").map_err(|e| CliError::other(format!("writing stdout: {e}")))?;
@@ -159,8 +163,15 @@ fn run_batch(path: &str, bodies: &[Body], precision: Precision) -> Result<(), Cl
                 CliError::input(format!("--batch: line {n}: {what} '{s}' is not a number"))
             })
         };
-        let req = request(cols[0], num(cols[1], "lat")?, num(cols[2], "lon")?, num(cols[3], "elevation_m")?)
-            .map_err(|e| CliError::input(format!("--batch: line {n}: {}", e.trim_start_matches("--"))))?;
+        let req = request(
+            cols[0],
+            num(cols[1], "lat")?,
+            num(cols[2], "lon")?,
+            num(cols[3], "elevation_m")?,
+        )
+        .map_err(|e| {
+            CliError::input(format!("--batch: line {n}: {}", e.trim_start_matches("--")))
+        })?;
         requests.push(req);
     }
     let stdout = std::io::stdout();
@@ -197,10 +208,16 @@ fn compute(req: &Request, bodies: &[Body], precision: Precision) -> Result<Value
         rec.insert("topo_distance_km".into(), json!(topo.distance_km));
         match body {
             Body::Sun => {
-                rec.insert("semidiameter_deg".into(), json!(topo.semidiameter_deg(SUN_RADIUS_KM)));
+                rec.insert(
+                    "semidiameter_deg".into(),
+                    json!(topo.semidiameter_deg(SUN_RADIUS_KM)),
+                );
             }
             Body::Moon => {
-                rec.insert("semidiameter_deg".into(), json!(topo.semidiameter_deg(MOON_RADIUS_KM)));
+                rec.insert(
+                    "semidiameter_deg".into(),
+                    json!(topo.semidiameter_deg(MOON_RADIUS_KM)),
+                );
                 let p = sky.moon_physical().map_err(|e| e.to_string())?;
                 rec.insert("phase_angle_deg".into(), json!(p.phase_angle / DEG));
                 rec.insert("illuminated_fraction".into(), json!(p.illuminated_fraction));
@@ -209,7 +226,10 @@ fn compute(req: &Request, bodies: &[Body], precision: Precision) -> Result<Value
                 rec.insert("libration_lon_deg".into(), json!(p.libration_lon / DEG));
                 rec.insert("libration_lat_deg".into(), json!(p.libration_lat / DEG));
                 rec.insert("axis_pa_deg".into(), json!(p.axis_pa / DEG));
-                rec.insert("parallactic_angle_deg".into(), json!(topo.parallactic_angle_deg()));
+                rec.insert(
+                    "parallactic_angle_deg".into(),
+                    json!(topo.parallactic_angle_deg()),
+                );
             }
             _ => {
                 let m = sky.planet_magnitude(body).map_err(|e| e.to_string())?;

@@ -193,14 +193,23 @@ mod tests {
     #[test]
     fn parses_utc_offsets_and_leap_seconds() {
         let t = parse_rfc3339("2024-04-08T18:42:00Z").unwrap();
-        assert_eq!((t.year, t.month, t.day, t.hour, t.minute), (2024, 4, 8, 18, 42));
+        assert_eq!(
+            (t.year, t.month, t.day, t.hour, t.minute),
+            (2024, 4, 8, 18, 42)
+        );
         let t = parse_rfc3339("2024-01-01T01:30:00.250+02:00").unwrap();
-        assert_eq!((t.year, t.month, t.day, t.hour, t.minute), (2023, 12, 31, 23, 30));
+        assert_eq!(
+            (t.year, t.month, t.day, t.hour, t.minute),
+            (2023, 12, 31, 23, 30)
+        );
         assert!((t.second - 0.25).abs() < 1e-12);
         let t = parse_rfc3339("2016-12-31T23:59:60.5Z").unwrap();
         assert_eq!(t.second, 60.5);
         let t = parse_rfc3339("2017-01-01T08:59:60+09:00").unwrap();
-        assert_eq!((t.year, t.month, t.day, t.hour, t.minute), (2016, 12, 31, 23, 59));
+        assert_eq!(
+            (t.year, t.month, t.day, t.hour, t.minute),
+            (2016, 12, 31, 23, 59)
+        );
         assert_eq!(format_utc(&t), "2016-12-31T23:59:60.000Z");
         let t = parse_rfc3339("-2000-03-01T00:00:00Z").unwrap();
         assert_eq!(t.year, -2000);

@@ -12,7 +12,11 @@ fn himmel(args: &[&str]) -> Output {
 }
 
 fn json(out: &Output) -> serde_json::Value {
-    assert!(out.status.success(), "stderr: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     serde_json::from_slice(&out.stdout).expect("valid JSON")
 }
 
@@ -32,19 +36,37 @@ fn ephemeris_json_has_every_contract_field() {
     let mut args = DALLAS.to_vec();
     args.extend(["140", "--format", "json"]);
     let v = json(&himmel(&args));
-    for k in ["time_utc", "jd_tt", "delta_t_s", "gast_hours", "observer", "precision", "bodies"] {
+    for k in [
+        "time_utc",
+        "jd_tt",
+        "delta_t_s",
+        "gast_hours",
+        "observer",
+        "precision",
+        "bodies",
+    ] {
         assert!(v.get(k).is_some(), "missing {k}");
     }
     assert_eq!(v["time_utc"], "2024-04-08T18:42:00.000Z");
     assert_eq!(v["precision"], "standard");
     assert_eq!(v["observer"]["lon_deg"].as_f64().unwrap(), -96.797);
     let common = [
-        "ra_deg", "dec_deg", "distance_km", "ecl_lon_deg", "ecl_lat_deg", "alt_deg", "az_deg",
-        "alt_refracted_deg", "topo_distance_km",
+        "ra_deg",
+        "dec_deg",
+        "distance_km",
+        "ecl_lon_deg",
+        "ecl_lat_deg",
+        "alt_deg",
+        "az_deg",
+        "alt_refracted_deg",
+        "topo_distance_km",
     ];
     let bodies = v["bodies"].as_object().unwrap();
     let names: Vec<_> = bodies.keys().cloned().collect();
-    assert_eq!(names, ["sun", "moon", "mercury", "venus", "mars", "jupiter", "saturn"]);
+    assert_eq!(
+        names,
+        ["sun", "moon", "mercury", "venus", "mars", "jupiter", "saturn"]
+    );
     for (name, b) in bodies {
         for k in common {
             assert!(b[k].as_f64().unwrap().is_finite(), "{name}.{k}");
@@ -52,8 +74,14 @@ fn ephemeris_json_has_every_contract_field() {
         let extra: &[&str] = match name.as_str() {
             "sun" => &["semidiameter_deg"],
             "moon" => &[
-                "semidiameter_deg", "phase_angle_deg", "illuminated_fraction", "elongation_deg",
-                "bright_limb_pa_deg", "libration_lon_deg", "libration_lat_deg", "axis_pa_deg",
+                "semidiameter_deg",
+                "phase_angle_deg",
+                "illuminated_fraction",
+                "elongation_deg",
+                "bright_limb_pa_deg",
+                "libration_lon_deg",
+                "libration_lat_deg",
+                "axis_pa_deg",
                 "parallactic_angle_deg",
             ],
             _ => &["magnitude"],
@@ -73,11 +101,24 @@ fn ephemeris_json_has_every_contract_field() {
 #[test]
 fn negative_numbers_work_separated_and_with_equals() {
     let a = json(&himmel(&[
-        "ephemeris", "--time", "2024-01-01T00:00:00Z", "--lat", "-33.9", "--lon", "-70.6",
-        "--body", "sun", "--format", "json",
+        "ephemeris",
+        "--time",
+        "2024-01-01T00:00:00Z",
+        "--lat",
+        "-33.9",
+        "--lon",
+        "-70.6",
+        "--body",
+        "sun",
+        "--format",
+        "json",
     ]));
     let b = json(&himmel(&[
-        "ephemeris", "--time=2024-01-01T00:00:00Z", "--lat=-33.9", "--lon=-70.6", "--body=sun",
+        "ephemeris",
+        "--time=2024-01-01T00:00:00Z",
+        "--lat=-33.9",
+        "--lon=-70.6",
+        "--body=sun",
         "--format=json",
     ]));
     assert_eq!(a, b);
@@ -91,13 +132,25 @@ fn assert_input_error(args: &[&str], needle: &str) {
     let lines: Vec<_> = err.lines().collect();
     assert_eq!(lines.len(), 1, "{args:?}: {err}");
     assert!(lines[0].starts_with("error: "), "{err}");
-    assert!(lines[0].contains(needle), "{args:?}: '{}' lacks '{needle}'", lines[0]);
+    assert!(
+        lines[0].contains(needle),
+        "{args:?}: '{}' lacks '{needle}'",
+        lines[0]
+    );
 }
 
 #[test]
 fn bad_input_exits_2_with_one_line_naming_the_flag() {
     let base = |time: &str, lat: &str| {
-        vec!["ephemeris".to_string(), "--time".into(), time.into(), "--lat".into(), lat.into(), "--lon".into(), "0".into()]
+        vec![
+            "ephemeris".to_string(),
+            "--time".into(),
+            time.into(),
+            "--lat".into(),
+            lat.into(),
+            "--lon".into(),
+            "0".into(),
+        ]
     };
     let run = |v: Vec<String>, needle: &str| {
         let r: Vec<&str> = v.iter().map(String::as_str).collect();
@@ -119,22 +172,42 @@ fn bad_input_exits_2_with_one_line_naming_the_flag() {
     v.push("--frobnicate".into());
     run(v, "--frobnicate");
     assert_input_error(&["ephemeris", "--lat", "1", "--lon", "2"], "--time");
-    assert_input_error(&["ephemeris", "--time", "now", "--lat", "1", "--lon", "400"], "--lon");
+    assert_input_error(
+        &["ephemeris", "--time", "now", "--lat", "1", "--lon", "400"],
+        "--lon",
+    );
 }
 
 #[test]
 fn batch_prints_one_json_line_per_input_line_in_order() {
     let input = "time,lat,lon,elevation_m\n2024-04-08T18:42:00Z,32.7767,-96.797,140\n2000-01-01T12:00:00Z,-90,180,0\n\n2016-12-31T23:59:60Z,52.5,13.4,34\n";
     let mut child = Command::new(env!("CARGO_BIN_EXE_himmel"))
-        .args(["ephemeris", "--batch", "-", "--body", "sun,moon", "--format", "json"])
+        .args([
+            "ephemeris",
+            "--batch",
+            "-",
+            "--body",
+            "sun,moon",
+            "--format",
+            "json",
+        ])
         .stdin(Stdio::piped())
         .stdout(Stdio::piped())
         .stderr(Stdio::piped())
         .spawn()
         .unwrap();
-    child.stdin.take().unwrap().write_all(input.as_bytes()).unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
     let out = child.wait_with_output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let lines: Vec<serde_json::Value> = String::from_utf8(out.stdout)
         .unwrap()
         .lines()
@@ -152,7 +225,11 @@ fn batch_errors_name_the_line() {
     let dir = std::env::temp_dir().join(format!("himmel-batch-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let f = dir.join("bad.csv");
-    std::fs::write(&f, "2024-04-08T18:42:00Z,10,10,0\n2024-04-08T18:42:00Z,95,10,0\n").unwrap();
+    std::fs::write(
+        &f,
+        "2024-04-08T18:42:00Z,10,10,0\n2024-04-08T18:42:00Z,95,10,0\n",
+    )
+    .unwrap();
     assert_input_error(&["ephemeris", "--batch", f.to_str().unwrap()], "line 2");
     std::fs::write(&f, "2024-04-08T18:42:00Z,10,10\n").unwrap();
     assert_input_error(&["ephemeris", "--batch", f.to_str().unwrap()], "line 1");
@@ -161,7 +238,15 @@ fn batch_errors_name_the_line() {
 
 #[test]
 fn table_output_is_the_default() {
-    let out = himmel(&["ephemeris", "--time", "2024-04-08T18:42:00Z", "--lat", "32.7767", "--lon", "-96.797"]);
+    let out = himmel(&[
+        "ephemeris",
+        "--time",
+        "2024-04-08T18:42:00Z",
+        "--lat",
+        "32.7767",
+        "--lon",
+        "-96.797",
+    ]);
     assert!(out.status.success());
     let s = String::from_utf8(out.stdout).unwrap();
     assert!(s.contains("moon") && s.contains("saturn") && s.contains("alt"));

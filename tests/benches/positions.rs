@@ -15,19 +15,38 @@ fn instants() -> Vec<Instant> {
 }
 
 fn lunar_theory(c: &mut Criterion) {
-    let ts: Vec<_> = instants().iter().map(|t| (t.centuries_tt(), t.jd_tt)).collect();
+    let ts: Vec<_> = instants()
+        .iter()
+        .map(|t| (t.centuries_tt(), t.jd_tt))
+        .collect();
     let mut g = c.benchmark_group("moon theory (64 instants)");
     g.bench_function("himmel meeus47 (standard)", |b| {
-        b.iter(|| ts.iter().for_each(|(t, _)| { black_box(moon::meeus47(black_box(*t))); }))
+        b.iter(|| {
+            ts.iter().for_each(|(t, _)| {
+                black_box(moon::meeus47(black_box(*t)));
+            })
+        })
     });
     g.bench_function("himmel low", |b| {
-        b.iter(|| ts.iter().for_each(|(t, _)| { black_box(moon::low(black_box(*t))); }))
+        b.iter(|| {
+            ts.iter().for_each(|(t, _)| {
+                black_box(moon::low(black_box(*t)));
+            })
+        })
     });
     g.bench_function("himmel de421 (high)", |b| {
-        b.iter(|| ts.iter().for_each(|(_, j)| { black_box(moon::de421(black_box(*j))); }))
+        b.iter(|| {
+            ts.iter().for_each(|(_, j)| {
+                black_box(moon::de421(black_box(*j)));
+            })
+        })
     });
     g.bench_function("astro-rust lunar::geocent_ecl_pos", |b| {
-        b.iter(|| ts.iter().for_each(|(_, j)| { black_box(peer::raw_position(Body::Moon, black_box(*j))); }))
+        b.iter(|| {
+            ts.iter().for_each(|(_, j)| {
+                black_box(peer::raw_position(Body::Moon, black_box(*j)));
+            })
+        })
     });
     g.finish();
 }
@@ -48,7 +67,11 @@ fn apparent_places(c: &mut Criterion) {
             });
         }
         g.bench_function(format!("astro-rust {}", body.name()), |b| {
-            b.iter(|| ins.iter().for_each(|t| { black_box(peer::apparent_radec(body, black_box(t.jd_tt))); }))
+            b.iter(|| {
+                ins.iter().for_each(|t| {
+                    black_box(peer::apparent_radec(body, black_box(t.jd_tt)));
+                })
+            })
         });
     }
     g.finish();

@@ -18,6 +18,7 @@ pub struct BodyRef {
     pub ra_deg: f64,
     pub dec_deg: f64,
     pub distance_km: f64,
+    pub geometric_distance_km: f64,
     pub ecl_lon_deg: f64,
     pub ecl_lat_deg: f64,
     pub alt_deg: f64,
@@ -101,8 +102,8 @@ pub fn load(name: &str) -> Vec<Record> {
     let path = fixtures_dir().join(name);
     let text = std::fs::read_to_string(&path)
         .unwrap_or_else(|e| panic!("cannot read {}: {e}", path.display()));
-    let f: FixtureFile =
-        serde_json::from_str(&text).unwrap_or_else(|e| panic!("bad fixture {}: {e}", path.display()));
+    let f: FixtureFile = serde_json::from_str(&text)
+        .unwrap_or_else(|e| panic!("bad fixture {}: {e}", path.display()));
     f.records
 }
 
@@ -137,7 +138,10 @@ impl Stats {
     /// Statistics of `values` (nearest-rank percentiles).
     pub fn of(values: &[f64]) -> Stats {
         assert!(!values.is_empty(), "no values");
-        assert!(values.iter().all(|v| v.is_finite()), "non-finite error value");
+        assert!(
+            values.iter().all(|v| v.is_finite()),
+            "non-finite error value"
+        );
         let mut v = values.to_vec();
         v.sort_by(|a, b| a.partial_cmp(b).expect("finite"));
         let rank = |p: f64| v[(((p * v.len() as f64).ceil() as usize).max(1) - 1).min(v.len() - 1)];
@@ -154,7 +158,7 @@ impl std::fmt::Display for Stats {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         write!(
             f,
-            "median {:.3}″  p95 {:.3}″  max {:.3}″  (n = {})",
+            "median {:.3}  p95 {:.3}  max {:.3}  (n = {})",
             self.median, self.p95, self.max, self.n
         )
     }
@@ -241,7 +245,13 @@ pub fn body_errors(
             want.az_deg,
             want.alt_deg,
         ));
-        e.distance_km.push((geo.distance_km - want.distance_km).abs());
+        // Sun and Moon: geometric distance between centres at t; planets:
+        // the light-time distance of Meeus ch. 33 (Skyfield's astrometric one).
+        let want_d = match body {
+            Body::Sun | Body::Moon => want.geometric_distance_km,
+            _ => want.distance_km,
+        };
+        e.distance_km.push((geo.distance_km - want_d).abs());
     }
     e
 }

@@ -19,7 +19,12 @@ fn hard_case_records_match_de421() {
                     (_, Precision::High) => 2.0,
                     _ => 6.0,
                 };
-                assert!(*geo <= bound, "{label} {} {}: {geo}″", p.name(), body.name());
+                assert!(
+                    *geo <= bound,
+                    "{label} {} {}: {geo}″",
+                    p.name(),
+                    body.name()
+                );
                 // At a pole azimuth is degenerate, so compare altitudes there.
                 let topo = if r.lat.abs() > 89.999 {
                     let sky = Sky::new(p, &r.instant());
@@ -28,7 +33,12 @@ fn hard_case_records_match_de421() {
                 } else {
                     *topo
                 };
-                assert!(topo <= 1.5 * geo + 0.5, "{label} {} {}: topo {topo}″ geo {geo}″", p.name(), body.name());
+                assert!(
+                    topo <= 1.5 * geo + 0.5,
+                    "{label} {} {}: topo {topo}″ geo {geo}″",
+                    p.name(),
+                    body.name()
+                );
             }
         }
     }
@@ -38,12 +48,20 @@ fn hard_case_records_match_de421() {
 fn moon_at_zenith_and_nadir() {
     let recs = load("de421_hard_cases.json");
     let mut seen = 0;
-    for r in recs.iter().filter(|r| r.label.as_deref().unwrap_or("").starts_with("Moon at")) {
+    for r in recs
+        .iter()
+        .filter(|r| r.label.as_deref().unwrap_or("").starts_with("Moon at"))
+    {
         let sky = Sky::new(Precision::High, &r.instant());
         let t = sky.topocentric(Body::Moon, &r.observer()).unwrap();
         let want = r.bodies.moon.alt_deg;
         assert!(t.alt_deg().is_finite() && t.az_deg().is_finite());
-        assert!((t.alt_deg() - want).abs() * 3600.0 < 2.0, "{:?}: {} vs {want}", r.label, t.alt_deg());
+        assert!(
+            (t.alt_deg() - want).abs() * 3600.0 < 2.0,
+            "{:?}: {} vs {want}",
+            r.label,
+            t.alt_deg()
+        );
         assert!(t.alt_refracted_deg().is_finite() && t.parallactic_angle_deg().is_finite());
         seen += 1;
     }
@@ -66,12 +84,20 @@ fn both_sides_of_a_leap_second() {
         assert!((t.jd_tt - r.jd_tt).abs() * 86400.0 < 1e-5, "{:?}", r.label);
         if let Some(p) = prev_tt {
             let step: f64 = (t.jd_tt - p) * 86400.0;
-            assert!((step - 1.0).abs() < 1e-5, "TT step {step} s across the leap second");
+            assert!(
+                (step - 1.0).abs() < 1e-5,
+                "TT step {step} s across the leap second"
+            );
         }
         prev_tt = Some(t.jd_tt);
         let sky = Sky::new(Precision::High, &t);
         let m = sky.apparent(Body::Moon).unwrap();
-        let err = separation_arcsec(m.ra / DEG, m.dec / DEG, r.bodies.moon.ra_deg, r.bodies.moon.dec_deg);
+        let err = separation_arcsec(
+            m.ra / DEG,
+            m.dec / DEG,
+            r.bodies.moon.ra_deg,
+            r.bodies.moon.dec_deg,
+        );
         assert!(err < 1.0, "{:?}: {err}″", r.label);
     }
 }
@@ -101,7 +127,12 @@ fn far_years_are_finite_and_continuous() {
                     let d1 = separation_arcsec(w[0].0, w[0].1, w[1].0, w[1].1);
                     let d2 = separation_arcsec(w[1].0, w[1].1, w[2].0, w[2].1);
                     // The Moon moves ~0.5°/h; a jump would show as a step change.
-                    assert!((d1 - d2).abs() < 30.0, "{year} {} {}: {d1} vs {d2}", p.name(), body.name());
+                    assert!(
+                        (d1 - d2).abs() < 30.0,
+                        "{year} {} {}: {d1} vs {d2}",
+                        p.name(),
+                        body.name()
+                    );
                 }
             }
         }
@@ -114,15 +145,27 @@ fn observers_at_the_poles_and_the_antimeridian_agree_with_their_twins() {
     let t = Instant::from_tt(2451545.25);
     let sky = Sky::new(Precision::Standard, &t);
     for body in Body::ALL {
-        let a = sky.topocentric(body, &Observer::new(10.0, 180.0, 0.0).unwrap()).unwrap();
-        let b = sky.topocentric(body, &Observer::new(10.0, -180.0, 0.0).unwrap()).unwrap();
+        let a = sky
+            .topocentric(body, &Observer::new(10.0, 180.0, 0.0).unwrap())
+            .unwrap();
+        let b = sky
+            .topocentric(body, &Observer::new(10.0, -180.0, 0.0).unwrap())
+            .unwrap();
         assert!(separation_arcsec(a.az_deg(), a.alt_deg(), b.az_deg(), b.alt_deg()) < 1e-6);
         // 360-wrapped input.
-        let c = sky.topocentric(body, &Observer::new(10.0, 540.0 - 360.0, 0.0).unwrap()).unwrap();
+        let c = sky
+            .topocentric(body, &Observer::new(10.0, 540.0 - 360.0, 0.0).unwrap())
+            .unwrap();
         assert!(separation_arcsec(a.az_deg(), a.alt_deg(), c.az_deg(), c.alt_deg()) < 1e-6);
         // At a pole the altitude equals the topocentric declination.
-        let n = sky.topocentric(body, &Observer::new(90.0, 0.0, 0.0).unwrap()).unwrap();
-        assert!((n.alt - n.dec).abs() / DEG * 3600.0 < 1e-6, "{}", body.name());
+        let n = sky
+            .topocentric(body, &Observer::new(90.0, 0.0, 0.0).unwrap())
+            .unwrap();
+        assert!(
+            (n.alt - n.dec).abs() / DEG * 3600.0 < 1e-6,
+            "{}",
+            body.name()
+        );
         assert!(n.az_deg().is_finite() && (0.0..360.0).contains(&n.az_deg()));
     }
     assert!(Observer::new(90.0001, 0.0, 0.0).is_err());

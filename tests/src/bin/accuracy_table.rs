@@ -40,7 +40,10 @@ fn main() {
     );
     for p in Precision::ALL {
         let eph = Tiered(p);
-        let epochs: Vec<Epoch> = instants.iter().map(|t| Epoch::new(t, p.nutation_model())).collect();
+        let epochs: Vec<Epoch> = instants
+            .iter()
+            .map(|t| Epoch::new(t, p.nutation_model()))
+            .collect();
         for body in Body::ALL {
             let errs: Vec<f64> = recs
                 .iter()
@@ -100,8 +103,36 @@ fn main() {
     let ts: Vec<f64> = instants.iter().map(|t| t.centuries_tt()).collect();
     let jds: Vec<f64> = instants.iter().map(|t| t.jd_tt).collect();
     let row = |name: &str, ns: f64| println!("| {name} | {ns:.0} |");
-    row("himmel moon::low", time_ns(ts.len(), || ts.iter().for_each(|t| { black_box(moon::low(black_box(*t))); })));
-    row("himmel moon::meeus47", time_ns(ts.len(), || ts.iter().for_each(|t| { black_box(moon::meeus47(black_box(*t))); })));
-    row("himmel moon::de421", time_ns(jds.len(), || jds.iter().for_each(|j| { black_box(moon::de421(black_box(*j))); })));
-    row("astro-rust lunar::geocent_ecl_pos", time_ns(jds.len(), || jds.iter().for_each(|j| { black_box(peer::raw_position(Body::Moon, black_box(*j))); })));
+    row(
+        "himmel moon::low",
+        time_ns(ts.len(), || {
+            ts.iter().for_each(|t| {
+                black_box(moon::low(black_box(*t)));
+            })
+        }),
+    );
+    row(
+        "himmel moon::meeus47",
+        time_ns(ts.len(), || {
+            ts.iter().for_each(|t| {
+                black_box(moon::meeus47(black_box(*t)));
+            })
+        }),
+    );
+    row(
+        "himmel moon::de421",
+        time_ns(jds.len(), || {
+            jds.iter().for_each(|j| {
+                black_box(moon::de421(black_box(*j)));
+            })
+        }),
+    );
+    row(
+        "astro-rust lunar::geocent_ecl_pos",
+        time_ns(jds.len(), || {
+            jds.iter().for_each(|j| {
+                black_box(peer::raw_position(Body::Moon, black_box(*j)));
+            })
+        }),
+    );
 }
