@@ -352,15 +352,14 @@ fn planet_apparent(epoch: &Epoch, planet: Planet, tier: Precision) -> Apparent {
     };
     let (le, be, re) = helio(Planet::Earth, jd);
     let earth = frames::spherical_to_vector(le, be, re);
-    let mut tau = 0.0;
-    let mut geo = DVec3::ZERO;
-    // Three iterations bring τ to < 1 ms even for Saturn; the planets move
-    // less than 0.001″ in that time.
-    for _ in 0..3 {
-        let (l, b, r) = helio(planet, jd - tau);
-        geo = frames::spherical_to_vector(l, b, r) - earth;
-        tau = geo.length() * LIGHT_DAYS_PER_AU;
-    }
+    // Light time from the geometric distance at t, then the planet at
+    // t − τ. The distance changes by at most ~40 km/s × τ meanwhile, so τ is
+    // good to ~0.1 s and a further iteration would move no planet by even
+    // 0.001″.
+    let (l, b, r) = helio(planet, jd);
+    let tau = (frames::spherical_to_vector(l, b, r) - earth).length() * LIGHT_DAYS_PER_AU;
+    let (l, b, r) = helio(planet, jd - tau);
+    let geo = frames::spherical_to_vector(l, b, r) - earth;
     let (lon, lat, delta) = frames::vector_to_spherical(geo);
     let sun_lon = wrap_tau(le + core::f64::consts::PI);
     let (lon, lat) = if tier == Precision::Low {

@@ -65,6 +65,18 @@ pub fn wrap_pi(a: Radians) -> Radians {
     wrap_tau(a + core::f64::consts::PI) - core::f64::consts::PI
 }
 
+/// Reduce degrees to [0, 360) by subtracting whole turns; cheaper than
+/// `fmod` and exact enough for polynomial arguments (|x| < 1e9°).
+#[inline]
+pub fn reduce_deg(x: Degrees) -> Degrees {
+    let r = x - 360.0 * libm::floor(x * (1.0 / 360.0));
+    if r >= 360.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
 /// Reduce degrees to [0, 360).
 #[inline]
 pub fn wrap_360(a: Degrees) -> Degrees {

@@ -10,7 +10,10 @@ use himmel_astro::Body;
 /// date: its series, its FK5 correction, Meeus' aberration, its nutation.
 pub fn apparent_radec(body: Body, jd_tt: f64) -> (f64, f64) {
     let (dpsi, deps) = astro::nutation::nutation(jd_tt);
-    let eps = astro::ecliptic::mn_oblq_IAU(jd_tt) + deps;
+    // astro-rust 2.0's `mn_oblq_IAU` evaluates the IAU 1980 polynomial in
+    // units of 10 000 years instead of centuries (it freezes the obliquity at
+    // its J2000 value, ~47″ per century off); its Laskar form is right.
+    let eps = astro::ecliptic::mn_oblq_laskar(jd_tt) + deps;
     let (lon, lat) = match body {
         Body::Moon => {
             let (p, _) = astro::lunar::geocent_ecl_pos(jd_tt);

@@ -115,7 +115,7 @@ pub fn fundamental_arguments(t: JulianCenturies) -> [Radians; 5] {
     let mp = 134.962_98 + t * (477_198.867_398 + t * (0.008_697_2 + t / 56_250.0));
     let f = 93.271_91 + t * (483_202.017_538 + t * (-0.003_682_5 + t / 327_270.0));
     let om = 125.044_52 + t * (-1_934.136_261 + t * (0.002_070_8 + t / 450_000.0));
-    [d, m, mp, f, om].map(|deg| libm::fmod(deg, 360.0) * DEG)
+    [d, m, mp, f, om].map(|deg| crate::units::reduce_deg(deg) * DEG)
 }
 
 /// Nutation at `t` Julian centuries of TT from J2000.0, radians.
@@ -173,15 +173,19 @@ fn nutation_iau1980(t: JulianCenturies) -> Nutation {
 }
 
 fn nutation_short(t: JulianCenturies) -> Nutation {
-    let l_sun = libm::fmod(280.4665 + 36_000.769_8 * t, 360.0) * DEG;
-    let l_moon = libm::fmod(218.3165 + 481_267.881_3 * t, 360.0) * DEG;
-    let om = fundamental_arguments(t)[4];
-    let dpsi =
-        -17.20 * libm::sin(om) - 1.32 * libm::sin(2.0 * l_sun) - 0.23 * libm::sin(2.0 * l_moon)
-            + 0.21 * libm::sin(2.0 * om);
-    let deps =
-        9.20 * libm::cos(om) + 0.57 * libm::cos(2.0 * l_sun) + 0.10 * libm::cos(2.0 * l_moon)
-            - 0.09 * libm::cos(2.0 * om);
+    use crate::units::reduce_deg;
+    // Twice the mean longitudes of Sun and Moon, and Ω (Meeus ch. 22).
+    let two_l_sun = reduce_deg(2.0 * (280.4665 + 36_000.769_8 * t)) * DEG;
+    let two_l_moon = reduce_deg(2.0 * (218.3165 + 481_267.881_3 * t)) * DEG;
+    let om =
+        reduce_deg(125.044_52 + t * (-1_934.136_261 + t * (0.002_070_8 + t / 450_000.0))) * DEG;
+    let (s_om, c_om) = libm::sincos(om);
+    let (s_ls, c_ls) = libm::sincos(two_l_sun);
+    let (s_lm, c_lm) = libm::sincos(two_l_moon);
+    // sin 2Ω = 2 sin Ω cos Ω, cos 2Ω = 1 − 2 sin² Ω.
+    let (s_2om, c_2om) = (2.0 * s_om * c_om, 1.0 - 2.0 * s_om * s_om);
+    let dpsi = -17.20 * s_om - 1.32 * s_ls - 0.23 * s_lm + 0.21 * s_2om;
+    let deps = 9.20 * c_om + 0.57 * c_ls + 0.10 * c_lm - 0.09 * c_2om;
     Nutation {
         dpsi: dpsi * ARCSEC,
         deps: deps * ARCSEC,

@@ -19,10 +19,10 @@ pub fn gmst(jd_ut1: JulianDay) -> Radians {
     // 360.98564736629 d = 360 d + 0.98564736629 d, and 360° × whole days is
     // a whole number of turns.
     let deg = 280.460_618_37
-        + libm::fmod(0.985_647_366_29 * d_whole, 360.0)
+        + crate::units::reduce_deg(0.985_647_366_29 * d_whole)
         + 360.985_647_366_29 * frac
         + t * t * (0.000_387_933 - t / 38_710_000.0);
-    wrap_tau(libm::fmod(deg, 360.0) * DEG)
+    wrap_tau(crate::units::reduce_deg(deg) * DEG)
 }
 
 /// Greenwich apparent sidereal time at `jd_ut1`, radians in [0, 2π): the mean
