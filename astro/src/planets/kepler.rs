@@ -72,9 +72,12 @@ pub(super) fn eccentric_anomaly(mean_anomaly: Radians, e: f64) -> Radians {
     let m = crate::units::wrap_pi(mean_anomaly);
     let mut ecc = m + e * libm::sin(m);
     for _ in 0..12 {
-        let step = (m + e * libm::sin(ecc) - ecc) / (1.0 - e * libm::cos(ecc));
+        let (sin_e, cos_e) = libm::sincos(ecc);
+        let step = (m + e * sin_e - ecc) / (1.0 - e * cos_e);
         ecc += step;
-        if step.abs() < 1e-15 {
+        // Newton converges quadratically: once a step is below 1e-8 rad the
+        // next would be below 1e-15, so stop here with E exact to 1e-15.
+        if step.abs() < 1e-8 {
             break;
         }
     }
@@ -91,7 +94,9 @@ pub(super) fn heliocentric_low(planet: Planet, jd_tt: JulianDay) -> (Radians, Ra
         Planet::Saturn => &SATURN,
     };
     let t = (jd_tt - J2000) / DAYS_PER_CENTURY;
-    let mean_longitude = poly(&el[0], t) * DEG;
+    // Mean anomaly reduced in degrees first: the mean longitude grows by
+    // ~150 000° per century and large radian arguments are slow to reduce.
+    let mean_anomaly = crate::units::reduce_deg(poly(&el[0], t) - poly(&el[5], t)) * DEG;
     let a = poly(&el[1], t);
     let e = poly(&el[2], t);
     let inclination = poly(&el[3], t) * DEG;
@@ -99,7 +104,7 @@ pub(super) fn heliocentric_low(planet: Planet, jd_tt: JulianDay) -> (Radians, Ra
     let perihelion = poly(&el[5], t) * DEG;
 
     // M = L − ϖ and ω = ϖ − Ω (Meeus ch. 31).
-    let ecc = eccentric_anomaly(mean_longitude - perihelion, e);
+    let ecc = eccentric_anomaly(mean_anomaly, e);
     let (sin_e, cos_e) = libm::sincos(ecc);
     // True anomaly and radius vector from E (Meeus eqs. 30.1, 30.2 in their
     // rectangular form, which has no quadrant ambiguity).
