@@ -140,8 +140,9 @@ impl Precision {
 }
 
 /// Everything about an instant that every body's reduction shares: the
-/// instant itself, nutation, obliquity and sidereal time. Compute it once
-/// per instant and reuse it for all bodies and observers.
+/// instant itself, nutation and obliquity. Compute it once per instant and
+/// reuse it for all bodies and observers; sidereal time, which only
+/// topocentric places need, comes from [`Epoch::gast`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Epoch {
     /// The instant (TT and UT1).
@@ -156,18 +157,34 @@ pub struct Epoch {
     pub mean_obliquity: Radians,
     /// True obliquity ε = ε₀ + Δε.
     pub true_obliquity: Radians,
-    /// Greenwich apparent sidereal time, radians in [0, 2π).
-    pub gast: Radians,
+    /// sin ε of the true obliquity (shared by every ecliptic ↔ equatorial
+    /// conversion at this instant).
+    pub sin_obliquity: f64,
+    /// cos ε of the true obliquity.
+    pub cos_obliquity: f64,
+    /// The low tier's lunar arguments, shared with its short nutation
+    /// series (present when `nutation_model` is [`NutationModel::Short`]).
+    low: Option<moon::LowArguments>,
 }
 
 impl Epoch {
     /// Prepares the reduction quantities of `instant` with the given nutation series.
     pub fn new(instant: &Instant, nutation_model: NutationModel) -> Epoch {
         let t = instant.centuries_tt();
-        let nutation = frames::nutation(t, nutation_model);
+        let (nutation, low) = match nutation_model {
+            NutationModel::Short => {
+                // One set of phasors serves the short nutation series and
+                // the low-tier Moon.
+                let args = moon::LowArguments::at(t);
+                let [om, two_sun, two_moon] = args.nutation_arguments();
+                let n = frames::nutation_short_from(om, two_sun, two_moon);
+                (n, Some(args))
+            }
+            model => (frames::nutation(t, model), None),
+        };
         let mean_obliquity = frames::mean_obliquity(t);
         let true_obliquity = mean_obliquity + nutation.deps;
-        let gast = crate::time::gast(instant.jd_ut1, nutation.dpsi, true_obliquity);
+        let (sin_obliquity, cos_obliquity) = sincos_obliquity(true_obliquity);
         Epoch {
             instant: *instant,
             t,
@@ -175,8 +192,18 @@ impl Epoch {
             nutation_model,
             mean_obliquity,
             true_obliquity,
-            gast,
+            sin_obliquity,
+            cos_obliquity,
+            low,
         }
+    }
+
+    /// Greenwich apparent sidereal time, radians in [0, 2π): GMST (IAU 1982,
+    /// Meeus eq. 12.4) plus the equation of the equinoxes Δψ cos ε, as in
+    /// [`crate::time::gast`]. About 15 ns; evaluated on demand because
+    /// geocentric places do not need it.
+    pub fn gast(&self) -> Radians {
+        wrap_tau(crate::time::gmst(self.instant.jd_ut1) + self.nutation.dpsi * self.cos_obliquity)
     }
 
     /// Rotation from ICRF (GCRS axes) to the true equator and equinox of date:
@@ -206,10 +233,17 @@ pub struct Apparent {
 }
 
 impl Apparent {
-    /// Builds an apparent place from ecliptic coordinates of date.
+    /// Builds an apparent place from ecliptic coordinates of date (Meeus
+    /// eq. 13.3–13.4 on vectors, with the epoch's sin ε and cos ε).
     pub fn from_ecliptic(lon: Radians, lat: Radians, distance_km: Km, epoch: &Epoch) -> Apparent {
         let lon = wrap_tau(lon);
-        let (ra, dec) = frames::ecliptic_to_equatorial(lon, lat, epoch.true_obliquity);
+        let (sl, cl) = crate::fastmath::sincos(lon);
+        let (sb, cb) = crate::fastmath::sincos(lat);
+        let (se, ce) = (epoch.sin_obliquity, epoch.cos_obliquity);
+        let x = cb * cl;
+        let y = cb * sl * ce - sb * se;
+        let z = cb * sl * se + sb * ce;
+        let (ra, dec) = xyz_to_angles(x, y, z);
         Apparent {
             ra,
             dec,
@@ -219,10 +253,17 @@ impl Apparent {
         }
     }
 
-    /// Builds an apparent place from equatorial coordinates of date.
+    /// Builds an apparent place from equatorial coordinates of date (Meeus
+    /// eq. 13.1–13.2 on vectors, with the epoch's sin ε and cos ε).
     pub fn from_equatorial(ra: Radians, dec: Radians, distance_km: Km, epoch: &Epoch) -> Apparent {
         let ra = wrap_tau(ra);
-        let (ecl_lon, ecl_lat) = frames::equatorial_to_ecliptic(ra, dec, epoch.true_obliquity);
+        let (sa, ca) = crate::fastmath::sincos(ra);
+        let (sd, cd) = crate::fastmath::sincos(dec);
+        let (se, ce) = (epoch.sin_obliquity, epoch.cos_obliquity);
+        let x = cd * ca;
+        let y = cd * sa * ce + sd * se;
+        let z = -cd * sa * se + sd * ce;
+        let (ecl_lon, ecl_lat) = xyz_to_angles(x, y, z);
         Apparent {
             ra,
             dec,
@@ -236,6 +277,46 @@ impl Apparent {
     pub fn vector_km(&self) -> DVec3 {
         frames::spherical_to_vector(self.ra, self.dec, self.distance_km)
     }
+}
+
+/// (sin ε, cos ε) by a Taylor expansion about ε₀(J2000) = 84 381.448″:
+/// the obliquity stays within 2e-3 rad of it for ±8 centuries, where the
+/// cubic is good to 1e-12; farther out the full sine.
+#[inline]
+fn sincos_obliquity(eps: Radians) -> (f64, f64) {
+    // sin and cos of 84 381.448″.
+    const S0: f64 = 0.397_777_155_931_913_7;
+    const C0: f64 = 0.917_482_062_069_181_8;
+    let d = eps - 84_381.448 * ARCSEC;
+    if d.abs() > 2e-3 {
+        return crate::fastmath::sincos(eps);
+    }
+    let d2 = d * d;
+    let (a, b) = (1.0 - 0.5 * d2, d - d * d2 * (1.0 / 6.0));
+    (S0 * a + C0 * b, C0 * a - S0 * b)
+}
+
+/// (longitude in [0, 2π), latitude) of a unit vector, both from `atan2`
+/// (finite and accurate at the poles; longitude 0 there). NaN components
+/// give NaN angles.
+#[inline]
+fn xyz_to_angles(x: f64, y: f64, z: f64) -> (Radians, Radians) {
+    // The callers build (x, y, z) from sines and cosines: a unit vector, or
+    // NaN, which passes through.
+    let rho = libm::sqrt(x * x + y * y);
+    let mut lon = if rho == 0.0 {
+        0.0
+    } else {
+        crate::fastmath::atan2_unit(y, x)
+    };
+    if lon < 0.0 {
+        lon += TAU;
+        // −1e-17 rounds up to exactly 2π.
+        if lon >= TAU {
+            lon = 0.0;
+        }
+    }
+    (lon, crate::fastmath::latitude_unit(z, rho))
 }
 
 /// A source of apparent geocentric places.
@@ -273,7 +354,7 @@ impl Ephemeris for Tiered {
             (Body::Sun, Precision::Low) => sun_low(epoch),
             (Body::Sun, Precision::Standard) => sun_vsop87(epoch, Series::Truncated),
             (Body::Sun, Precision::High) => sun_vsop87(epoch, Series::Full),
-            (Body::Moon, Precision::Low) => moon_series(epoch, moon::low(epoch.t)),
+            (Body::Moon, Precision::Low) => moon_low(epoch),
             (Body::Moon, Precision::Standard) => moon_series(epoch, moon::meeus47(epoch.t)),
             (Body::Moon, Precision::High) => {
                 moon_de421(epoch).unwrap_or_else(|| moon_series(epoch, moon::meeus47(epoch.t)))
@@ -346,22 +427,26 @@ fn annual_aberration(
 fn planet_apparent(epoch: &Epoch, planet: Planet, tier: Precision) -> Apparent {
     let jd = epoch.instant.jd_tt;
     let helio = |p: Planet, jd: JulianDay| match tier {
-        Precision::Low => planets::heliocentric_low(p, jd),
-        Precision::Standard => planets::heliocentric(p, jd, Series::Truncated),
-        Precision::High => planets::heliocentric(p, jd, Series::Full),
+        Precision::Low => planets::heliocentric_low_vector(p, jd),
+        Precision::Standard => {
+            let (l, b, r) = planets::heliocentric(p, jd, Series::Truncated);
+            frames::spherical_to_vector(l, b, r)
+        }
+        Precision::High => {
+            let (l, b, r) = planets::heliocentric(p, jd, Series::Full);
+            frames::spherical_to_vector(l, b, r)
+        }
     };
-    let (le, be, re) = helio(Planet::Earth, jd);
-    let earth = frames::spherical_to_vector(le, be, re);
+    let earth = helio(Planet::Earth, jd);
     // Light time from the geometric distance at t, then the planet at
     // t − τ. The distance changes by at most ~40 km/s × τ meanwhile, so τ is
     // good to ~0.1 s and a further iteration would move no planet by even
     // 0.001″.
-    let (l, b, r) = helio(planet, jd);
-    let tau = (frames::spherical_to_vector(l, b, r) - earth).length() * LIGHT_DAYS_PER_AU;
-    let (l, b, r) = helio(planet, jd - tau);
-    let geo = frames::spherical_to_vector(l, b, r) - earth;
+    let tau = (helio(planet, jd) - earth).length() * LIGHT_DAYS_PER_AU;
+    let geo = helio(planet, jd - tau) - earth;
     let (lon, lat, delta) = frames::vector_to_spherical(geo);
-    let sun_lon = wrap_tau(le + core::f64::consts::PI);
+    // The Sun's geometric longitude, opposite the Earth's heliocentric one.
+    let sun_lon = wrap_tau(libm::atan2(earth.y, earth.x) + core::f64::consts::PI);
     let (lon, lat) = if tier == Precision::Low {
         (lon, lat)
     } else {
@@ -383,6 +468,42 @@ fn planet_apparent(epoch: &Epoch, planet: Planet, tier: Precision) -> Apparent {
 /// light time cancels the annual aberration to within micro-arcseconds.
 fn moon_series(epoch: &Epoch, (lon, lat, dist): (Radians, Radians, Km)) -> Apparent {
     Apparent::from_ecliptic(lon + epoch.nutation.dpsi, lat, dist, epoch)
+}
+
+/// Moon, low tier: [`moon::low`] plus nutation in longitude, converted to
+/// RA/Dec as in [`Apparent::from_ecliptic`]. sin λ and cos λ come from
+/// e^{iL′} (held by the epoch) times e^{i(Σl + Δψ)} (|Σl| < 9.2°, a short
+/// series), sin β and cos β from the small-angle series (|β| < 5.4°).
+fn moon_low(epoch: &Epoch) -> Apparent {
+    let own;
+    let args = match &epoch.low {
+        Some(shared) => shared,
+        None => {
+            own = moon::LowArguments::at(epoch.t);
+            &own
+        }
+    };
+    let (sigma_l, lat, dist) = moon::low_terms(args);
+    let dl = sigma_l + epoch.nutation.dpsi;
+    let mut lon = args.l_prime_angle + dl;
+    if lon < 0.0 {
+        lon += TAU;
+    } else if lon >= TAU {
+        lon -= TAU;
+    }
+    let (sd, cd) = crate::fastmath::sincos_small(dl);
+    let (sp, cp) = (args.l_prime.sin, args.l_prime.cos);
+    let (sl, cl) = (sp * cd + cp * sd, cp * cd - sp * sd);
+    let (sb, cb) = crate::fastmath::sincos_small(lat);
+    let (se, ce) = (epoch.sin_obliquity, epoch.cos_obliquity);
+    let (ra, dec) = xyz_to_angles(cb * cl, cb * sl * ce - sb * se, cb * sl * se + sb * ce);
+    Apparent {
+        ra,
+        dec,
+        distance_km: dist,
+        ecl_lon: lon,
+        ecl_lat: lat,
+    }
 }
 
 /// Moon from the DE421 fit: geometric position at t − τ (the light-time and
@@ -508,5 +629,72 @@ impl Ephemeris for Manual {
         let (ra, dec, d) = self.places[slot_index(body)]
             .ok_or(AstroError::BodyUnavailable { body: body.name() })?;
         Ok(Apparent::from_equatorial(ra, dec, d, epoch))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn obliquity_sine_and_cosine() {
+        let mut t = -30.0;
+        while t < 30.0 {
+            let eps = frames::mean_obliquity(t);
+            let (s, c) = sincos_obliquity(eps);
+            assert!((s - libm::sin(eps)).abs() < 1e-12 && (c - libm::cos(eps)).abs() < 1e-12);
+            t += 0.0137;
+        }
+    }
+
+    #[test]
+    fn low_epoch_nutation_matches_the_short_series() {
+        // The epoch derives the short series from the lunar phasors; the
+        // stand-alone series uses Meeus ch. 22's own mean longitudes.
+        let mut jd = J2000 - 2.0 * DAYS_PER_CENTURY;
+        while jd < J2000 + 2.0 * DAYS_PER_CENTURY {
+            let e = Epoch::new(&Instant::from_tt(jd), NutationModel::Short);
+            let n = frames::nutation(e.t, NutationModel::Short);
+            assert!((e.nutation.dpsi - n.dpsi).abs() < 0.01 * ARCSEC, "{jd}");
+            assert!((e.nutation.deps - n.deps).abs() < 0.01 * ARCSEC, "{jd}");
+            jd += 37.3;
+        }
+    }
+
+    #[test]
+    fn low_moon_is_the_same_with_either_epoch() {
+        // Without the shared arguments (an IAU 1980 epoch) the low tier
+        // evaluates them itself; only the nutation differs (≤ 0.6″).
+        for k in 0..500 {
+            let t = Instant::from_tt(J2000 - 20_000.0 + f64::from(k) * 80.1);
+            let low = Tiered(Precision::Low);
+            let a = low
+                .apparent(Body::Moon, &Epoch::new(&t, NutationModel::Short))
+                .unwrap();
+            let b = low
+                .apparent(Body::Moon, &Epoch::new(&t, NutationModel::Iau1980))
+                .unwrap();
+            assert!(
+                wrap_pi(a.ra - b.ra).abs() * libm::cos(a.dec) < 1.0 * ARCSEC,
+                "{k}"
+            );
+            assert!((a.dec - b.dec).abs() < 1.0 * ARCSEC, "{k}");
+            // And the vector form agrees with the series' own λ, β.
+            let (lon, lat, dist) = moon::low(t.centuries_tt());
+            let c = Apparent::from_ecliptic(
+                lon + b_dpsi(&t),
+                lat,
+                dist,
+                &Epoch::new(&t, NutationModel::Short),
+            );
+            assert!(
+                wrap_pi(a.ra - c.ra).abs() < 1e-6 && (a.dec - c.dec).abs() < 1e-6,
+                "{k}"
+            );
+        }
+    }
+
+    fn b_dpsi(t: &Instant) -> f64 {
+        Epoch::new(t, NutationModel::Short).nutation.dpsi
     }
 }

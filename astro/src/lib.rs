@@ -26,6 +26,7 @@
 extern crate std;
 
 pub mod error;
+mod fastmath;
 pub mod units;
 
 pub mod frames;

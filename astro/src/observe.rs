@@ -78,7 +78,7 @@ impl Observer {
 
     /// Local apparent sidereal time at `epoch`, radians in [0, 2π).
     pub fn local_sidereal_time(&self, epoch: &Epoch) -> Radians {
-        wrap_tau(epoch.gast + self.lon)
+        wrap_tau(epoch.gast() + self.lon)
     }
 
     /// Geocentric position of the observer, km, true equator and equinox of

@@ -49,7 +49,8 @@ pub const TAU: f64 = core::f64::consts::TAU;
 /// Reduce an angle to [0, 2π).
 #[inline]
 pub fn wrap_tau(a: Radians) -> Radians {
-    let r = a % TAU;
+    // Whole turns off by floor (a libm `fmod` costs several times more).
+    let r = a - TAU * libm::floor(a * (1.0 / TAU));
     let r = if r < 0.0 { r + TAU } else { r };
     // A tiny negative input rounds up to exactly TAU.
     if r >= TAU {

@@ -242,7 +242,7 @@ fn compute(req: &Request, bodies: &[Body], precision: Precision) -> Result<Value
         "time_utc": format_utc(&req.utc),
         "jd_tt": instant.jd_tt,
         "delta_t_s": instant.delta_t(),
-        "gast_hours": epoch.gast / DEG / 15.0,
+        "gast_hours": epoch.gast() / DEG / 15.0,
         "observer": {
             "lat_deg": req.observer.lat_deg(),
             "lon_deg": req.observer.lon_deg(),

@@ -23,6 +23,7 @@ pub use coords::{
     spherical_to_vector, vector_to_equatorial, vector_to_spherical,
 };
 pub use geodesy::geocentric_observer;
+pub(crate) use nutation::nutation_short_from;
 pub use nutation::{fundamental_arguments, nutation, Nutation, NutationModel};
 pub use obliquity::mean_obliquity;
 pub use precession::{frame_bias_matrix, precession_angles, precession_matrix};

@@ -140,6 +140,9 @@ fn mul(a: (f64, f64), b: (f64, f64)) -> (f64, f64) {
     (a.0 * b.0 - a.1 * b.1, a.0 * b.1 + a.1 * b.0)
 }
 
+// Kept out of line: inlined into its callers it bloats their frames and
+// slows the short path that shares them.
+#[inline(never)]
 fn nutation_iau1980(t: JulianCenturies) -> Nutation {
     let args = fundamental_arguments(t);
     // powers[j][k] = (cos k·xⱼ, sin k·xⱼ), k = 0..=MAX_MULTIPLE.
@@ -173,15 +176,30 @@ fn nutation_iau1980(t: JulianCenturies) -> Nutation {
 }
 
 fn nutation_short(t: JulianCenturies) -> Nutation {
-    use crate::units::reduce_deg;
-    // Twice the mean longitudes of Sun and Moon, and Ω (Meeus ch. 22).
-    let two_l_sun = reduce_deg(2.0 * (280.4665 + 36_000.769_8 * t)) * DEG;
-    let two_l_moon = reduce_deg(2.0 * (218.3165 + 481_267.881_3 * t)) * DEG;
+    // 4e-7 relative on terms of at most 17″: far below the series' own 0.5″.
+    use crate::fastmath::sincos_turns_low as sincos_turns;
+    // Twice the mean longitudes of Sun and Moon, and Ω (Meeus ch. 22), in
+    // turns: the polynomial sincos reduces whole turns itself.
+    let two_l_sun = (280.4665 + 36_000.769_8 * t) * (1.0 / 180.0);
+    let two_l_moon = (218.3165 + 481_267.881_3 * t) * (1.0 / 180.0);
     let om =
-        reduce_deg(125.044_52 + t * (-1_934.136_261 + t * (0.002_070_8 + t / 450_000.0))) * DEG;
-    let (s_om, c_om) = libm::sincos(om);
-    let (s_ls, c_ls) = libm::sincos(two_l_sun);
-    let (s_lm, c_lm) = libm::sincos(two_l_moon);
+        (125.044_52 + t * (-1_934.136_261 + t * (0.002_070_8 + t / 450_000.0))) * (1.0 / 360.0);
+    nutation_short_from(
+        sincos_turns(om),
+        sincos_turns(two_l_sun),
+        sincos_turns(two_l_moon),
+    )
+}
+
+/// Meeus' low-accuracy nutation (ch. 22) from (sin, cos) of Ω, of twice the
+/// Sun's mean longitude and of twice the Moon's mean longitude, for callers
+/// that already hold these phasors (the low tier's [`crate::Epoch`]).
+#[inline]
+pub(crate) fn nutation_short_from(
+    (s_om, c_om): (f64, f64),
+    (s_ls, c_ls): (f64, f64),
+    (s_lm, c_lm): (f64, f64),
+) -> Nutation {
     // sin 2Ω = 2 sin Ω cos Ω, cos 2Ω = 1 − 2 sin² Ω.
     let (s_2om, c_2om) = (2.0 * s_om * c_om, 1.0 - 2.0 * s_om * s_om);
     let dpsi = -17.20 * s_om - 1.32 * s_ls - 0.23 * s_lm + 0.21 * s_2om;

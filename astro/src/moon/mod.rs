@@ -31,3 +31,4 @@ mod series;
 pub use de421::{de421, DE421_SPAN};
 pub use physical::{physical, MoonPhysical, MoonSunApparent};
 pub use series::{low, meeus47};
+pub(crate) use series::{low_terms, LowArguments};

@@ -279,10 +279,10 @@ pub(crate) fn mean_ascending_node(t: JulianCenturies) -> Radians {
 }
 
 /// A unit complex number cos x + i sin x (possibly scaled), i.e. e^{ix}.
-#[derive(Debug, Clone, Copy)]
-struct Phasor {
-    cos: f64,
-    sin: f64,
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct Phasor {
+    pub(crate) cos: f64,
+    pub(crate) sin: f64,
 }
 
 impl Phasor {
@@ -456,60 +456,22 @@ pub fn meeus47(t: JulianCenturies) -> (Radians, Radians, Km) {
     (lon, lat, dist)
 }
 
-/// sin and cos of 2π·`turns` without libm: reduction to the nearest quarter
-/// turn, then Taylor polynomials on [−π/4, π/4] (truncation error below
-/// 1e-11, far under what the short series needs). |turns| < 2^50.
+/// e^{2πi·turns} to 4e-7 (the low tier's polynomial).
 #[inline(always)]
-fn sincos_turns(turns: f64) -> Phasor {
-    let q4 = turns * 4.0;
-    let quadrant = (q4 + if q4 < 0.0 { -0.5 } else { 0.5 }) as i64;
-    let y = (q4 - quadrant as f64) * core::f64::consts::FRAC_PI_2;
-    let y2 = y * y;
-    // Taylor coefficients 1/n! with alternating signs, as constants (a
-    // division per term would cost more than the whole polynomial).
-    const S: [f64; 5] = [
-        -1.0 / 6.0,
-        1.0 / 120.0,
-        -1.0 / 5040.0,
-        1.0 / 362_880.0,
-        -1.0 / 39_916_800.0,
-    ];
-    const C: [f64; 6] = [
-        -1.0 / 2.0,
-        1.0 / 24.0,
-        -1.0 / 720.0,
-        1.0 / 40_320.0,
-        -1.0 / 3_628_800.0,
-        1.0 / 479_001_600.0,
-    ];
-    let sin = y + y * y2 * (S[0] + y2 * (S[1] + y2 * (S[2] + y2 * (S[3] + y2 * S[4]))));
-    let cos = 1.0 + y2 * (C[0] + y2 * (C[1] + y2 * (C[2] + y2 * (C[3] + y2 * (C[4] + y2 * C[5])))));
-    match quadrant & 3 {
-        0 => Phasor { cos, sin },
-        1 => Phasor {
-            cos: -sin,
-            sin: cos,
-        },
-        2 => Phasor {
-            cos: -cos,
-            sin: -sin,
-        },
-        _ => Phasor {
-            cos: sin,
-            sin: -cos,
-        },
-    }
+fn sincos_turns_low(turns: f64) -> Phasor {
+    let (sin, cos) = crate::fastmath::sincos_turns_low(turns);
+    Phasor { cos, sin }
 }
 
-/// Fractional part in [0, 1), by truncation (no libm call).
+/// Fractional part in [0, 1) of |x| < 2^51, without a libm call or a
+/// saturating float → integer conversion: round to the nearest integer by
+/// adding and removing 1.5·2^52, then step down where that rounded up.
 #[inline(always)]
 fn fraction(x: f64) -> f64 {
-    let f = x - (x as i64) as f64;
-    if f < 0.0 {
-        f + 1.0
-    } else {
-        f
-    }
+    const ROUND: f64 = 6_755_399_441_055_744.0;
+    let nearest = (x + ROUND) - ROUND;
+    let f = x - nearest; // in [−0.5, 0.5]
+    f + f64::from(u8::from(f < 0.0))
 }
 
 /// λ = L′ + Σ, put back into [0, 2π) when |Σ| < 2π and L′ ∈ [0, 2π).
@@ -556,12 +518,60 @@ const LOW_F: [f64; 2] = [93.272_095_0 / 360.0, 483_202.017_523_3 / 360.0];
 /// release, one shared core): `low` 59 ns, `meeus47` 394 ns (6.7×), the
 /// textbook evaluation in the crate `astro` 2.0.0 about 2000 ns.
 pub fn low(t: JulianCenturies) -> (Radians, Radians, Km) {
-    let turns = |c: [f64; 2]| c[0] + c[1] * t;
-    let d = sincos_turns(turns(LOW_D));
-    let m = sincos_turns(turns(LOW_M));
-    let mp = sincos_turns(turns(LOW_M_PRIME));
-    let f = sincos_turns(turns(LOW_F));
-    let l_prime = fraction(turns(LOW_L_PRIME)) * TAU;
+    let args = LowArguments::at(t);
+    let (sigma_l, lat, dist) = low_terms(&args);
+    (longitude(args.l_prime_angle, sigma_l), lat, dist)
+}
+
+/// The low tier's fundamental arguments at one instant (constant and linear
+/// terms of Meeus eqs. 47.1–47.5): L′ as an angle and e^{ix} of L′, D, M,
+/// M′ and F. The low tier's [`crate::Epoch`] computes them once and derives
+/// the short nutation series from them as well.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct LowArguments {
+    /// The Moon's mean longitude L′, radians in [0, 2π).
+    pub(crate) l_prime_angle: Radians,
+    pub(crate) l_prime: Phasor,
+    d: Phasor,
+    m: Phasor,
+    mp: Phasor,
+    f: Phasor,
+}
+
+impl LowArguments {
+    /// Evaluates the arguments at `t` Julian centuries of TT from J2000.0.
+    #[inline]
+    pub(crate) fn at(t: JulianCenturies) -> LowArguments {
+        let turns = |c: [f64; 2]| c[0] + c[1] * t;
+        let l_prime_turns = fraction(turns(LOW_L_PRIME));
+        LowArguments {
+            l_prime_angle: l_prime_turns * TAU,
+            l_prime: sincos_turns_low(l_prime_turns),
+            d: sincos_turns_low(turns(LOW_D)),
+            m: sincos_turns_low(turns(LOW_M)),
+            mp: sincos_turns_low(turns(LOW_M_PRIME)),
+            f: sincos_turns_low(turns(LOW_F)),
+        }
+    }
+
+    /// (sin, cos) of Ω = L′ − F, of 2L☉ = 2(L′ − D) and of 2L′: the
+    /// arguments of Meeus' short nutation series (ch. 22), whose own mean
+    /// longitudes agree with these to 0.0003° (0.001″ in Δψ).
+    #[inline]
+    pub(crate) fn nutation_arguments(&self) -> [(f64, f64); 3] {
+        let om = self.l_prime.mul(self.f.conj());
+        let sun = self.l_prime.mul(self.d.conj());
+        let two_sun = sun.mul(sun);
+        let two_moon = self.l_prime.mul(self.l_prime);
+        [om, two_sun, two_moon].map(|p| (p.sin, p.cos))
+    }
+}
+
+/// The periodic terms of the low tier: (Σl, latitude, distance) in radians,
+/// radians and km; the longitude is L′ + Σl.
+#[inline]
+pub(crate) fn low_terms(args: &LowArguments) -> (Radians, Radians, Km) {
+    let LowArguments { d, m, mp, f, .. } = *args;
 
     // The combinations of D, M, M′, F that the 32 terms need (names: `d2`
     // = 2D, `_mp` = −M′, `p` = +, ...).
@@ -579,44 +589,36 @@ pub fn low(t: JulianCenturies) -> (Radians, Radians, Km) {
     let mp_2f = mp.mul(f2); // M′ + 2F
 
     // Σl, 1e-6°: rows 1–15 of Table 47.A by size.
-    let sigma_l =
-        6_288_774.0 * mp.sin + 1_274_027.0 * d2_mp.sin + 658_314.0 * d2.sin + 213_618.0 * mp2.sin
-            - 185_116.0 * m.sin
-            - 114_332.0 * f2.sin
-            + 58_793.0 * d2_2mp.sin
-            + 57_066.0 * d2_m_mp.sin
-            + 53_322.0 * d2p_mp.sin
-            + 45_758.0 * d2_m.sin
-            - 40_923.0 * m_mp.sin
-            - 34_720.0 * d.sin
-            - 30_383.0 * mp_mp.sin
-            + 15_327.0 * d2_2f.sin
-            - 12_528.0 * mp_2f.sin;
+    // The sums are grouped in independent partial sums: a single running
+    // sum would be one long chain of dependent additions, and this
+    // evaluation is bound by latency, not by the number of operations.
+    let sigma_l = ((6_288_774.0 * mp.sin + 1_274_027.0 * d2_mp.sin)
+        + (658_314.0 * d2.sin + 213_618.0 * mp2.sin))
+        + ((-185_116.0 * m.sin - 114_332.0 * f2.sin)
+            + (58_793.0 * d2_2mp.sin + 57_066.0 * d2_m_mp.sin))
+        + (((53_322.0 * d2p_mp.sin + 45_758.0 * d2_m.sin)
+            + (-40_923.0 * m_mp.sin - 34_720.0 * d.sin))
+            + ((-30_383.0 * mp_mp.sin + 15_327.0 * d2_2f.sin) - 12_528.0 * mp_2f.sin));
     // Σr, 1e-3 km: the 8 largest cosine terms of Table 47.A.
-    let sigma_r = -20_905_355.0 * mp.cos
-        - 3_699_111.0 * d2_mp.cos
-        - 2_955_968.0 * d2.cos
-        - 569_925.0 * mp2.cos
-        + 246_158.0 * d2_2mp.cos
-        - 204_586.0 * d2_m.cos
-        - 170_733.0 * d2p_mp.cos
-        - 152_138.0 * d2_m_mp.cos;
-    // Σb, 1e-6°: the 9 largest terms of Table 47.B; only sines are needed,
-    // sin(a ± F) = sin a cos F ± cos a sin F.
-    let plus_f = |a: Phasor| a.sin * f.cos + a.cos * f.sin;
-    let minus_f = |a: Phasor| a.sin * f.cos - a.cos * f.sin;
-    let sigma_b = 5_128_122.0 * f.sin
-        + 280_602.0 * plus_f(mp)
-        + 277_693.0 * minus_f(mp)
-        + 173_237.0 * minus_f(d2)
-        + 55_413.0 * plus_f(d2_mp)
-        + 46_271.0 * minus_f(d2_mp)
-        + 32_573.0 * plus_f(d2)
-        + 17_198.0 * plus_f(mp2)
-        + 9_266.0 * minus_f(d2p_mp);
+    let sigma_r = ((-20_905_355.0 * mp.cos - 3_699_111.0 * d2_mp.cos)
+        + (-2_955_968.0 * d2.cos - 569_925.0 * mp2.cos))
+        + ((246_158.0 * d2_2mp.cos - 204_586.0 * d2_m.cos)
+            + (-170_733.0 * d2p_mp.cos - 152_138.0 * d2_m_mp.cos));
+    // Σb, 1e-6°: the 9 largest terms of Table 47.B, all sines of F or of
+    // a ± F. With sin(a ± F) = sin a cos F ± cos a sin F they collect into
+    // Σb = cos F·Σ c sin a + sin F·(c₀ + Σ ±c cos a).
+    let with_cos_f = ((280_602.0 * mp.sin + 277_693.0 * mp.sin)
+        + (173_237.0 * d2.sin + 55_413.0 * d2_mp.sin))
+        + ((46_271.0 * d2_mp.sin + 32_573.0 * d2.sin)
+            + (17_198.0 * mp2.sin + 9_266.0 * d2p_mp.sin));
+    let with_sin_f = ((5_128_122.0 + 280_602.0 * mp.cos - 277_693.0 * mp.cos)
+        + (-173_237.0 * d2.cos + 55_413.0 * d2_mp.cos))
+        + ((-46_271.0 * d2_mp.cos + 32_573.0 * d2.cos)
+            + (17_198.0 * mp2.cos - 9_266.0 * d2p_mp.cos));
+    let sigma_b = f.cos * with_cos_f + f.sin * with_sin_f;
 
     (
-        longitude(l_prime, sigma_l * 1e-6 * DEG),
+        sigma_l * 1e-6 * DEG,
         sigma_b * 1e-6 * DEG,
         385_000.56 + sigma_r * 1e-3,
     )
@@ -711,22 +713,10 @@ mod tests {
                 .sum();
             let (l, b, r) = low(t);
             let l_ref = crate::units::wrap_tau(arg(LOW_L_PRIME) + sl * 1e-6 * DEG);
-            assert!(wrap_pi(l - l_ref).abs() < 1e-10, "{t}");
-            assert!((b - sb * 1e-6 * DEG).abs() < 1e-10, "{t}");
-            assert!((r - (385_000.56 + sr * 1e-3)).abs() < 1e-6, "{t}");
-        }
-    }
-
-    #[test]
-    fn polynomial_sincos_is_accurate() {
-        for i in -20_000..=20_000 {
-            let turns = f64::from(i) * 0.012_345_678_9;
-            let z = sincos_turns(turns);
-            let x = fraction(turns) * TAU;
-            assert!(
-                (z.sin - x.sin()).abs() < 2e-11 && (z.cos - x.cos()).abs() < 2e-11,
-                "{turns}"
-            );
+            // The low tier's sincos is good to 4e-7 per term: Σ|coef|·4e-7.
+            assert!(wrap_pi(l - l_ref).abs() < 1e-7, "{t}");
+            assert!((b - sb * 1e-6 * DEG).abs() < 5e-8, "{t}");
+            assert!((r - (385_000.56 + sr * 1e-3)).abs() < 0.02, "{t}");
         }
     }
 

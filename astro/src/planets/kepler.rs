@@ -85,6 +85,16 @@ pub(super) fn eccentric_anomaly(mean_anomaly: Radians, e: f64) -> Radians {
 }
 
 pub(super) fn heliocentric_low(planet: Planet, jd_tt: JulianDay) -> (Radians, Radians, Au) {
+    crate::frames::vector_to_spherical(heliocentric_low_vector(planet, jd_tt))
+}
+
+/// The same ellipse as [`heliocentric_low`] as a rectangular vector, AU,
+/// ecliptic and mean equinox of date: the position in the orbital plane
+/// (x = a(cos E − e), y = a√(1 − e²) sin E) turned by the argument of
+/// perihelion ω = ϖ − Ω, the inclination i and the node Ω (Meeus ch. 33,
+/// eq. 33.7 with the ecliptic in place of the equator). Three sine–cosine
+/// pairs and no inverse trigonometry.
+pub(super) fn heliocentric_low_vector(planet: Planet, jd_tt: JulianDay) -> glam::DVec3 {
     let el = match planet {
         Planet::Mercury => &MERCURY,
         Planet::Venus => &VENUS,
@@ -93,9 +103,7 @@ pub(super) fn heliocentric_low(planet: Planet, jd_tt: JulianDay) -> (Radians, Ra
         Planet::Jupiter => &JUPITER,
         Planet::Saturn => &SATURN,
     };
-    let t = (jd_tt - J2000) / DAYS_PER_CENTURY;
-    // Mean anomaly reduced in degrees first: the mean longitude grows by
-    // ~150 000° per century and large radian arguments are slow to reduce.
+    let t = (jd_tt - J2000) * (1.0 / DAYS_PER_CENTURY);
     let mean_anomaly = crate::units::reduce_deg(poly(&el[0], t) - poly(&el[5], t)) * DEG;
     let a = poly(&el[1], t);
     let e = poly(&el[2], t);
@@ -103,20 +111,18 @@ pub(super) fn heliocentric_low(planet: Planet, jd_tt: JulianDay) -> (Radians, Ra
     let node = poly(&el[4], t) * DEG;
     let perihelion = poly(&el[5], t) * DEG;
 
-    // M = L − ϖ and ω = ϖ − Ω (Meeus ch. 31).
     let ecc = eccentric_anomaly(mean_anomaly, e);
     let (sin_e, cos_e) = libm::sincos(ecc);
-    // True anomaly and radius vector from E (Meeus eqs. 30.1, 30.2 in their
-    // rectangular form, which has no quadrant ambiguity).
-    let nu = libm::atan2(libm::sqrt(1.0 - e * e) * sin_e, cos_e - e);
-    let r = a * (1.0 - e * cos_e);
-    // Argument of latitude u = ω + ν; spherical ecliptic coordinates of date.
-    let u = perihelion - node + nu;
-    let (sin_u, cos_u) = libm::sincos(u);
-    let (sin_i, cos_i) = libm::sincos(inclination);
-    let lon = node + libm::atan2(sin_u * cos_i, cos_u);
-    let lat = crate::units::safe_asin(sin_u * sin_i);
-    (crate::units::wrap_tau(lon), lat, r)
+    // In the orbital plane, x towards perihelion.
+    let px = a * (cos_e - e);
+    let py = a * libm::sqrt(1.0 - e * e) * sin_e;
+    let (sw, cw) = libm::sincos(perihelion - node);
+    let (si, ci) = libm::sincos(inclination);
+    let (sn, cn) = libm::sincos(node);
+    // Turned by ω in the plane, then by i about the node line, then by Ω.
+    let (xw, yw) = (px * cw - py * sw, px * sw + py * cw);
+    let (yi, zi) = (yw * ci, yw * si);
+    glam::DVec3::new(xw * cn - yi * sn, xw * sn + yi * cn, zi)
 }
 
 pub(super) fn sun_low(jd_tt: JulianDay) -> (Radians, Au) {

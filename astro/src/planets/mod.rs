@@ -111,6 +111,13 @@ pub fn heliocentric_low(planet: Planet, jd_tt: JulianDay) -> (Radians, Radians, 
     kepler::heliocentric_low(planet, jd_tt)
 }
 
+/// [`heliocentric_low`] as a rectangular vector, AU, ecliptic and mean
+/// equinox of date (x towards the equinox, z towards the ecliptic pole):
+/// cheaper when the caller needs a vector anyway.
+pub fn heliocentric_low_vector(planet: Planet, jd_tt: JulianDay) -> glam::DVec3 {
+    kepler::heliocentric_low_vector(planet, jd_tt)
+}
+
 /// The Sun, low accuracy (Meeus, Astronomical Algorithms 2nd ed., ch. 25,
 /// eqs. 25.2–25.5 and the Ω correction for nutation and aberration that follows
 /// them): (apparent longitude, referred to the true equinox of date, radians

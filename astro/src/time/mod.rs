@@ -266,7 +266,9 @@ impl Instant {
 
     /// Julian centuries of TT since J2000.0: (JD_TT − 2451545.0)/36525.
     pub fn centuries_tt(&self) -> JulianCenturies {
-        (self.jd_tt - J2000) / DAYS_PER_CENTURY
+        // A product rather than a quotient: every series waits on this value
+        // first, and a division's latency is several multiplications'.
+        (self.jd_tt - J2000) * (1.0 / DAYS_PER_CENTURY)
     }
 
     /// The UTC clock reading of this instant, inverting [`Instant::from_utc`]
