@@ -19,6 +19,7 @@ import os
 import random
 import struct
 
+import erfa
 import skyfield_data
 from skyfield.api import Loader, Star, wgs84
 
@@ -88,9 +89,24 @@ def main():
             ra, dec, _ = g.observe(star).apparent().radec(epoch="date")
             cases.append(dict(hip=s["hip"], jd_tt=jd_tt, jd_ut1=float(t.ut1), geocentric=True,
                               ra_deg=ra._degrees, dec_deg=dec.degrees))
+    # ±100 years from the catalogue epoch (outside DE421): SOFA/ERFA
+    # (IAU 2006/2000A, its own Earth ephemeris epv00). Catalogue propagated
+    # to J2000 with eraPmsafe, then eraAtci13 (ICRS -> CIRS: space motion,
+    # parallax, light deflection, aberration, bias-precession-nutation) and
+    # RA(true equinox) = RA(CIRS) - equation of the origins.
+    for year in [1891.25, 1895.0, 1925.6, 2060.3, 2075.0, 2091.25]:
+        jd_tt = 2451545.0 + (year - 2000.0) * 365.25
+        for s in bright:
+            pmr = s["pmra"] / 1000.0 / 3600.0 * math.pi / 180.0 / math.cos(s["dec"])
+            pmd = s["pmdec"] / 1000.0 / 3600.0 * math.pi / 180.0
+            r2, d2, pr2, pd2, px2, rv2 = erfa.pmsafe(s["ra"], s["dec"], pmr, pmd, s["plx"] / 1000.0, 0.0,
+                                                      epoch, 0.0, 2451545.0, 0.0)
+            ri, di, eo = erfa.atci13(r2, d2, pr2, pd2, px2, rv2, jd_tt, 0.0)
+            cases.append(dict(hip=s["hip"], jd_tt=jd_tt, jd_ut1=jd_tt, geocentric=True, erfa=True,
+                              ra_deg=math.degrees(erfa.anp(ri - eo)), dec_deg=math.degrees(di)))
     out = dict(
         source="tools/gen_star_fixtures.py: Skyfield 1.55 Star + DE421 Earth, catalogue values of "
-               "catalog/data/stars.bin, radial velocity 0, unrefracted",
+               "catalog/data/stars.bin, radial velocity 0, unrefracted; 'erfa' cases: pyerfa pmsafe+atci13",
         stars=[dict(hip=s["hip"], name=s["name"], vmag=s["v"]) for s in bright],
         cases=cases)
     path = os.path.join(ROOT, "tests", "fixtures", "stars_skyfield.json")
