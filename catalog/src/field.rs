@@ -23,7 +23,11 @@ pub struct StarField {
 impl StarField {
     /// Prepares `stars` at `jd_tt`; they are re-based when a later date is
     /// more than `tolerance_days` (> 0, finite) from the refresh epoch.
-    pub fn new(stars: &[Star], jd_tt: JulianDay, tolerance_days: f64) -> Result<Self, CatalogError> {
+    pub fn new(
+        stars: &[Star],
+        jd_tt: JulianDay,
+        tolerance_days: f64,
+    ) -> Result<Self, CatalogError> {
         CatalogError::check_range("jd_tt", jd_tt, 0.0, 1e7)?;
         CatalogError::check_range("refresh tolerance (days)", tolerance_days, 1e-6, 1e7)?;
         let source: Vec<_> = stars.iter().map(|s| s.astrometry).collect();

@@ -141,7 +141,7 @@ impl Catalog {
                 constellation,
                 astrometry,
                 vmag,
-                bv: (bv != i16::MIN).then(|| bv as f64 * 0.001),
+                bv: (bv != i16::MIN).then_some(bv as f64 * 0.001),
             });
         }
         Ok(Catalog::from_stars(stars))

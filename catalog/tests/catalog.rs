@@ -46,7 +46,9 @@ fn famous_stars_are_present_with_names() {
         ("Dubhe", 54061, 1.81),
         ("Acrux", 60718, 0.77),
     ] {
-        let s = cat.by_name(name).unwrap_or_else(|| panic!("{name} missing"));
+        let s = cat
+            .by_name(name)
+            .unwrap_or_else(|| panic!("{name} missing"));
         assert_eq!(s.hip, hip, "{name}");
         assert!((s.vmag - vmag).abs() < 0.1, "{name} V = {}", s.vmag);
         assert!(s.bv.is_some());
@@ -70,7 +72,10 @@ fn parsers_rebuild_the_embedded_records() {
     assert!(built.len() >= 10);
     for s in built.stars() {
         let e = emb.by_hip(s.hip).unwrap();
-        assert_eq!((&s.name, &s.bayer, &s.constellation), (&e.name, &e.bayer, &e.constellation));
+        assert_eq!(
+            (&s.name, &s.bayer, &s.constellation),
+            (&e.name, &e.bayer, &e.constellation)
+        );
         let (a, b) = (&s.astrometry, &e.astrometry);
         // Quantisation of the binary table: 2⁻³² turn, 0.01 mas(/yr).
         assert!((a.ra - b.ra).abs() < 2e-9 && (a.dec - b.dec).abs() < 2e-9);
@@ -97,7 +102,10 @@ fn malformed_hip2_lines_name_the_line() {
     let mut t: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
     t[2].truncate(100);
     let e = parse_hip2(&t.join("\n")).unwrap_err();
-    assert!(matches!(e, CatalogError::TruncatedLine { line: 3, .. }), "{e}");
+    assert!(
+        matches!(e, CatalogError::TruncatedLine { line: 3, .. }),
+        "{e}"
+    );
     // Shifted columns on line 5.
     let mut t: Vec<String> = lines.iter().map(|s| s.to_string()).collect();
     t[4] = format!(" {}", t[4]);
@@ -108,7 +116,14 @@ fn malformed_hip2_lines_name_the_line() {
     t[6].replace_range(43..50, "    NaN");
     let e = parse_hip2(&t.join("\n")).unwrap_err();
     assert!(
-        matches!(e, CatalogError::BadField { line: 7, field: "Plx", .. }),
+        matches!(
+            e,
+            CatalogError::BadField {
+                line: 7,
+                field: "Plx",
+                ..
+            }
+        ),
         "{e}"
     );
     assert!(e.to_string().contains("line 7"));
@@ -152,7 +167,34 @@ fn malformed_d3_json_names_the_line() {
     for cut in (0..good.len()).step_by(5) {
         assert!(parse_d3_stars(&good[..cut]).is_err());
     }
-    let names = "{\n\"32349\": {\"name\": \"Sirius\", \"c\": \"CMa\"},\n\"x1\": {\"name\": \"\"}\n}";
+    let names =
+        "{\n\"32349\": {\"name\": \"Sirius\", \"c\": \"CMa\"},\n\"x1\": {\"name\": \"\"}\n}";
     assert_eq!(line_of(&parse_d3_starnames(names).unwrap_err()), 3);
     assert!(parse_d3_starnames(&names[..20]).is_err());
+}
+
+#[test]
+fn colours_of_reference_stars() {
+    use himmel_catalog::color::{
+        planck_chromaticity, star_rgb, temperature_from_bv, LocusModel, WHITE_D65, WHITE_E,
+    };
+    let cat = Catalog::embedded().unwrap();
+    for model in [LocusModel::Blackbody, LocusModel::Kim] {
+        let betelgeuse = star_rgb(cat.by_name("Betelgeuse").unwrap().bv, model);
+        assert!(
+            betelgeuse[0] > betelgeuse[1] && betelgeuse[1] > betelgeuse[2],
+            "{betelgeuse:?}"
+        );
+        let rigel = star_rgb(cat.by_name("Rigel").unwrap().bv, model);
+        assert!(rigel[2] > rigel[0], "{rigel:?}");
+        let dubhe = star_rgb(cat.by_name("Dubhe").unwrap().bv, model);
+        let merak = star_rgb(cat.by_hip(53910).unwrap().bv, model);
+        // Dubhe's orange next to Merak's white: redder relative to blue.
+        assert!(dubhe[0] / dubhe[2] > 2.0 * merak[0] / merak[2]);
+    }
+    let (x, y) = planck_chromaticity(temperature_from_bv(0.65).unwrap()).unwrap();
+    let d_e = (x - WHITE_E.0).hypot(y - WHITE_E.1);
+    let d_65 = (x - WHITE_D65.0).hypot(y - WHITE_D65.1);
+    println!("B-V 0.65: x = {x:.4}, y = {y:.4}; from E {d_e:.4}, from D65 {d_65:.4}");
+    assert!(d_e < 0.01);
 }

@@ -64,6 +64,23 @@ fn check(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, CliError> {
     }
 }
 
+/// `x` with `decimals` fixed decimals, through integer formatting (Rust's
+/// fixed-precision float formatting is several times slower, and the table
+/// prints 50 000 numbers).
+fn fixed(x: f64, decimals: u32) -> String {
+    let k = 10i64.pow(decimals);
+    let n = (x * k as f64).round() as i64;
+    let sign = if n < 0 { "-" } else { "" };
+    let n = n.unsigned_abs();
+    let k = k as u64;
+    format!(
+        "{sign}{}.{:0width$}",
+        n / k,
+        n % k,
+        width = decimals as usize
+    )
+}
+
 fn round(x: f64, digits: i32) -> f64 {
     let k = 10f64.powi(digits);
     (x * k).round() / k
@@ -84,7 +101,8 @@ pub fn run(args: &StarsArgs) -> Result<(), CliError> {
     let lon = check("--lon", lon, -360.0, 360.0)?;
     let elevation = check("--elevation", args.elevation, -12_000.0, 100_000.0)?;
     let limit = check("--limit-mag", args.limit_mag, -30.0, 30.0)?;
-    let observer = Observer::new(lat, lon, elevation).map_err(|e| CliError::input(e.to_string()))?;
+    let observer =
+        Observer::new(lat, lon, elevation).map_err(|e| CliError::input(e.to_string()))?;
     let instant = Instant::from_utc(&utc).map_err(|e| CliError::input(format!("--time: {e}")))?;
     let epoch = Epoch::new(&instant, NutationModel::Iau1980);
     let catalog = Catalog::embedded().map_err(|e| CliError::other(e.to_string()))?;
@@ -147,15 +165,15 @@ pub fn run(args: &StarsArgs) -> Result<(), CliError> {
             for s in &out {
                 writeln!(
                     w,
-                    "{:>6}  {:<22} {:>6.2} {:>6} {:>11.5} {:>11.5} {:>10.4} {:>10.4}",
+                    "{:>6}  {:<22} {:>6} {:>6} {:>11} {:>11} {:>10} {:>10}",
                     s.hip.map(|h| h.to_string()).unwrap_or_default(),
                     s.name.unwrap_or(""),
-                    s.vmag,
-                    s.bv.map(|b| format!("{b:.2}")).unwrap_or_else(|| "—".into()),
-                    s.ra_deg,
-                    s.dec_deg,
-                    s.alt_deg,
-                    s.az_deg
+                    fixed(s.vmag, 2),
+                    s.bv.map(|b| fixed(b, 2)).unwrap_or_else(|| "—".into()),
+                    fixed(s.ra_deg, 5),
+                    fixed(s.dec_deg, 5),
+                    fixed(s.alt_deg, 4),
+                    fixed(s.az_deg, 4)
                 )
                 .map_err(io)?;
             }
@@ -163,4 +181,18 @@ pub fn run(args: &StarsArgs) -> Result<(), CliError> {
     }
     w.flush().map_err(io)?;
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::fixed;
+
+    #[test]
+    fn fixed_decimals() {
+        assert_eq!(fixed(-16.749_735_7, 5), "-16.74974");
+        assert_eq!(fixed(-0.004, 2), "0.00");
+        assert_eq!(fixed(-0.006, 2), "-0.01");
+        assert_eq!(fixed(359.999_996, 5), "360.00000");
+        assert_eq!(fixed(0.5, 4), "0.5000");
+    }
 }

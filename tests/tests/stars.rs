@@ -96,7 +96,10 @@ fn geocentric_apparent_places_within_one_arcsecond_over_two_centuries() {
     }
     let (sn, sf) = (Stats::of(&near), Stats::of(&far));
     println!("1950–2050 vs Skyfield (arcsec): {sn}\n±100 yr vs ERFA (arcsec): {sf}");
-    assert!(!far.is_empty() && sn.max <= 1.0 && sf.max <= 1.0, "{sn} / {sf}");
+    assert!(
+        !far.is_empty() && sn.max <= 1.0 && sf.max <= 1.0,
+        "{sn} / {sf}"
+    );
 }
 
 /// The fast path (cached unit vectors with proper-motion rates, one matrix
@@ -113,7 +116,9 @@ fn fast_path_within_two_arcseconds_for_fifty_years() {
         .collect();
     let obs = Observer::new(52.5, 13.4, 40.0).unwrap();
     let mut rows = Vec::new();
-    for years in [-100.0, -75.0, -50.0, -25.0, -5.0, 0.0, 5.0, 25.0, 50.0, 75.0, 100.0] {
+    for years in [
+        -100.0, -75.0, -50.0, -25.0, -5.0, 0.0, 5.0, 25.0, 50.0, 75.0, 100.0,
+    ] {
         let epoch = Epoch::new(
             &Instant::from_tt(refresh + years * 365.25 + 0.37),
             NutationModel::Iau1980,
