@@ -587,6 +587,26 @@ mod tests {
     }
 
     #[test]
+    fn at_the_poles_altitude_is_declination() {
+        // At geodetic latitude ±90° the horizon is the equator: alt = ±δ of
+        // date (no diurnal aberration there), and everything stays finite.
+        let s = sirius();
+        let e = Epoch::new(&Instant::from_tt(2_460_000.5), NutationModel::Iau1980);
+        let red = StarReduction::new(&e);
+        let dec = red.apparent(&s).dec;
+        for lat in [90.0, -90.0] {
+            let t = red.topocentric(&s, &Observer::new(lat, 123.0, 0.0).unwrap());
+            let want = if lat > 0.0 { dec } else { -dec };
+            assert!((t.alt - want).abs() < 1e-3 * ARCSEC, "{lat}");
+            assert!(t.az.is_finite() && t.alt_refracted_deg().is_finite());
+        }
+        // A star at the zenith of a −89.9° observer (a celestial-pole star).
+        let pole = Astrometry::new(0.0, -TAU / 4.0, 0.0, 0.0, 0.0, 0.0, J2000).unwrap();
+        let t = red.topocentric(&pole, &Observer::new(-89.9, 0.0, 0.0).unwrap());
+        assert!(t.alt.is_finite() && t.az.is_finite() && t.alt_deg() > 89.5);
+    }
+
+    #[test]
     fn fast_path_tracks_exact_path() {
         let s = sirius();
         let obs = Observer::new(-89.9, 10.0, 0.0).unwrap();

@@ -69,3 +69,44 @@ impl StarField {
         FrameRotation::new(epoch, observer, self.refresh_jd_tt)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::Catalog;
+    use himmel_astro::frames::NutationModel;
+    use himmel_astro::stars::StarReduction;
+    use himmel_astro::Instant;
+
+    #[test]
+    fn refreshes_only_beyond_the_tolerance_and_stays_accurate() {
+        let cat = Catalog::embedded().unwrap();
+        let stars = cat.brighter_than(3.0);
+        let mut field = StarField::new(stars, 2_451_545.0, 3652.5).unwrap();
+        assert!(!field.refresh_if_needed(2_451_545.0 + 3000.0));
+        assert!(!field.refresh_if_needed(f64::NAN));
+        assert!(field.refresh_if_needed(2_451_545.0 + 4000.0));
+        assert_eq!(field.refresh_jd_tt(), 2_451_545.0 + 4000.0);
+        // After a refresh, one frame against the exact path, polar observer.
+        let obs = Observer::new(-90.0, 0.0, 0.0).unwrap();
+        let epoch = Epoch::new(
+            &Instant::from_tt(2_451_545.0 + 4100.0),
+            NutationModel::Iau1980,
+        );
+        let frame = field.frame(&epoch, &obs);
+        let red = StarReduction::new(&epoch);
+        for (s, f) in stars.iter().zip(field.stars()) {
+            let exact = red.topocentric(&s.astrometry, &obs).enu();
+            let fast = frame.enu(f);
+            let err = exact
+                .cross(fast)
+                .length()
+                .atan2(exact.dot(fast))
+                .to_degrees()
+                * 3600.0;
+            assert!(err < 1.0, "HIP {}: {err}″", s.hip);
+        }
+        assert!(StarField::new(stars, 2_451_545.0, 0.0).is_err());
+        assert!(StarField::new(stars, f64::NAN, 1.0).is_err());
+    }
+}
