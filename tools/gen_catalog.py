@@ -15,7 +15,8 @@ Usage:
   python3 tools/gen_catalog.py /tmp/package/data
 
 Writes:
-  catalog/data/stars.bin           the star table (format: catalog/src/binary.rs)
+  catalog/data/stars.bin           the star table to V = 6.5 (format: catalog/src/binary.rs)
+  catalog/data/stars_v8.bin        every star of stars.8.json (V <= 8), same format (feature `faint`)
   catalog/data/lines.bin           constellation figures
   catalog/data/milkyway.bin        Milky Way outlines
   catalog/data/source_counts.json  stars per magnitude bin in the source (completeness test)
@@ -68,7 +69,7 @@ def q(x, scale, lo, hi):
     return max(lo, min(hi, v))
 
 
-def write_stars(sel, names):
+def write_stars(sel, names, filename="stars.bin"):
     # Names table: one entry per star that has any name or designation.
     name_entries, name_index = [], {}
     for hip, _ in sel:
@@ -98,7 +99,7 @@ def write_stars(sel, names):
             q(s["pmra"], 100, -(2**31), 2**31 - 1), q(s["pmdec"], 100, -(2**31), 2**31 - 1),
             q(s["plx"], 100, -(2**31), 2**31 - 1), q(s["v"], 1000, -32767, 32767), bv_i)
     out += strings
-    with open(os.path.join(OUT, "stars.bin"), "wb") as f:
+    with open(os.path.join(OUT, filename), "wb") as f:
         f.write(out)
     return len(out), len(name_entries)
 
@@ -132,10 +133,9 @@ def main():
             bins[k] = bins.get(k, 0) + 1
     missing = []
     sel = []
+    sel_faint = []
     for f in feats:
         v = f["properties"]["mag"]
-        if v > V_LIMIT:
-            continue
         hip = int(f["id"])
         s = hip2.get(hip)
         if s is None:
@@ -150,14 +150,20 @@ def main():
         s = dict(s)
         s["v"] = float(v)
         s["bv_v"] = float(bv) if bv not in ("", None) else (s["bv"] if s["bv"] != 0.0 else None)
-        sel.append((hip, s))
+        sel_faint.append((hip, s))
+        if v <= V_LIMIT:
+            sel.append((hip, s))
     sel.sort(key=lambda x: (x[1]["v"], x[0]))
+    sel_faint.sort(key=lambda x: (x[1]["v"], x[0]))
     size, nnames = write_stars(sel, names)
-    print(f"stars: {len(sel)} (missing from hip2: {missing}), names: {nnames}, {size} bytes")
+    print(f"stars: {len(sel)} (missing from hip2, V <= 8: {missing}), names: {nnames}, {size} bytes")
+    size, nnames = write_stars(sel_faint, names, "stars_v8.bin")
+    print(f"faint table (feature `faint`): {len(sel_faint)} stars, names: {nnames}, {size} bytes")
 
+    bright_ids = {h for h, _ in sel}
     with open(os.path.join(OUT, "source_counts.json"), "w") as f:
         json.dump({"source": "d3-celestial 0.7.35 data/stars.8.json, V <= 6.5, 0.5 mag bins (lower edge)",
-                   "missing_from_hip2": missing,
+                   "missing_from_hip2": [h for h in missing if h in bright_ids],
                    "bins": {f"{k:.1f}": n for k, n in sorted(bins.items())}}, f, indent=1)
 
     lines = json.load(open(os.path.join(d3, "constellations.lines.json")))["features"]
