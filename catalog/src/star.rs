@@ -88,7 +88,7 @@ impl Catalog {
         Catalog { stars }
     }
 
-    /// Decodes a table in the `stars.bin` format (module [`crate::binary`]
+    /// Decodes a table in the `stars.bin` format (`catalog/src/binary.rs`
     /// documents it).
     pub fn from_bytes(bytes: &[u8]) -> Result<Catalog, CatalogError> {
         let mut r = Reader::new(bytes, "stars.bin");

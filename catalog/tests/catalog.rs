@@ -198,3 +198,36 @@ fn colours_of_reference_stars() {
     println!("B-V 0.65: x = {x:.4}, y = {y:.4}; from E {d_e:.4}, from D65 {d_65:.4}");
     assert!(d_e < 0.01);
 }
+
+#[test]
+fn constellation_figures_join_catalogue_stars() {
+    // Every vertex of the stick figures should be a catalogue star at J2000
+    // (the figures come from a different file of the same source).
+    let cat = Catalog::embedded().unwrap();
+    let j2000: Vec<[f64; 3]> = cat
+        .stars()
+        .iter()
+        .map(|s| s.astrometry.direction_at(2_451_545.0).to_array())
+        .collect();
+    let figs = himmel_catalog::figures::constellation_figures().unwrap();
+    let (mut n, mut matched) = (0, 0);
+    for fig in figs {
+        for line in &fig.lines {
+            for v in line.unit_vectors() {
+                n += 1;
+                let best = j2000
+                    .iter()
+                    .map(|s| s[0] * v.x + s[1] * v.y + s[2] * v.z)
+                    .fold(-1.0f64, f64::max);
+                if best.min(1.0).acos().to_degrees() < 0.01 {
+                    matched += 1;
+                }
+            }
+        }
+    }
+    println!("{matched} of {n} figure vertices within 0.01° of a catalogue star");
+    assert!(
+        n > 800 && matched as f64 >= 0.98 * n as f64,
+        "{matched}/{n}"
+    );
+}
