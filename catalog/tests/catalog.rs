@@ -231,3 +231,21 @@ fn constellation_figures_join_catalogue_stars() {
         "{matched}/{n}"
     );
 }
+
+#[test]
+fn propagated_positions_match_the_j2000_positions_of_the_source() {
+    // d3-celestial lists J2000 positions (0.0001° rounding, from XHIP); the
+    // embedded J1991.25 astrometry carried to J2000 must land on them, which
+    // checks the epoch and the proper-motion units (Sirius moves 11″ in the
+    // 8.75 years).
+    let d3 = parse_d3_stars(STARS8).unwrap();
+    let cat = Catalog::embedded().unwrap();
+    for s in &d3 {
+        let star = cat.by_hip(s.hip).unwrap();
+        let v = star.astrometry.direction_at(2_451_545.0);
+        let (ra, dec) = (s.ra_deg.to_radians(), s.dec_deg.to_radians());
+        let w = glam::DVec3::new(dec.cos() * ra.cos(), dec.cos() * ra.sin(), dec.sin());
+        let sep = v.cross(w).length().atan2(v.dot(w)).to_degrees() * 3600.0;
+        assert!(sep < 0.5, "HIP {}: {sep}″", s.hip);
+    }
+}
