@@ -363,20 +363,15 @@ impl StarReduction {
         u
     }
 
-    fn apparent_with_velocity(&self, star: &Astrometry, extra_vel_au_d: DVec3) -> DVec3 {
-        let mut u = self.astrometric(star, self.earth_pos_au);
-        if self.effects.aberration {
-            let beta = (self.earth_vel_au_d + extra_vel_au_d) / C_AU_PER_DAY;
-            u = frames::aberrate(u, beta);
-        }
-        self.icrs_to_date * u
-    }
-
     /// Apparent geocentric place of `star`: true equator and equinox of date,
     /// with the effects chosen at construction (Kaplan et al. 1989;
     /// Explanatory Supplement 1992 §3.2).
     pub fn apparent(&self, star: &Astrometry) -> StarApparent {
-        StarApparent::from_vector(self.apparent_with_velocity(star, DVec3::ZERO))
+        let mut u = self.astrometric(star, self.earth_pos_au);
+        if self.effects.aberration {
+            u = frames::aberrate(u, self.earth_vel_au_d / C_AU_PER_DAY);
+        }
+        StarApparent::from_vector(self.icrs_to_date * u)
     }
 
     /// Topocentric place of `star` for `observer`: the apparent place with
@@ -384,17 +379,41 @@ impl StarReduction {
     /// aberration, ≤ 0.32″), then altitude and azimuth (unrefracted). The
     /// geocentric parallax of a star (≤ 6×10⁻³″) is neglected.
     pub fn topocentric(&self, star: &Astrometry, observer: &Observer) -> StarTopocentric {
-        let v_rot_date = observer.velocity_km_s(&self.epoch) * (SECONDS_PER_DAY / KM_PER_AU);
-        let v_rot_icrs = self.icrs_to_date.transpose() * v_rot_date;
-        let v = self.apparent_with_velocity(star, v_rot_icrs);
+        self.geocentric_and_topocentric(star, observer).1
+    }
+
+    /// Both the apparent geocentric place ([`StarReduction::apparent`]) and
+    /// the topocentric place ([`StarReduction::topocentric`]) of `star`,
+    /// sharing the space motion, parallax and deflection steps.
+    pub fn geocentric_and_topocentric(
+        &self,
+        star: &Astrometry,
+        observer: &Observer,
+    ) -> (StarApparent, StarTopocentric) {
+        let u = self.astrometric(star, self.earth_pos_au);
+        let (geo, topo) = if self.effects.aberration {
+            let v_rot_date = observer.velocity_km_s(&self.epoch) * (SECONDS_PER_DAY / KM_PER_AU);
+            let v_rot_icrs = self.icrs_to_date.transpose() * v_rot_date;
+            let beta = self.earth_vel_au_d / C_AU_PER_DAY;
+            (
+                frames::aberrate(u, beta),
+                frames::aberrate(u, beta + v_rot_icrs / C_AU_PER_DAY),
+            )
+        } else {
+            (u, u)
+        };
+        let (geo, topo) = (self.icrs_to_date * geo, self.icrs_to_date * topo);
         let lst = observer.local_sidereal_time(&self.epoch);
-        let enu = equatorial_to_enu_matrix(lst, observer.lat()) * v;
+        let enu = equatorial_to_enu_matrix(lst, observer.lat()) * topo;
         let (az, alt) = horizontal_from_enu(enu);
-        StarTopocentric {
-            place: StarApparent::from_vector(v),
-            alt,
-            az,
-        }
+        (
+            StarApparent::from_vector(geo),
+            StarTopocentric {
+                place: StarApparent::from_vector(topo),
+                alt,
+                az,
+            },
+        )
     }
 }
 
@@ -584,6 +603,26 @@ mod tests {
         }
         let worst = worst / ARCSEC;
         assert!(worst < 0.7548 * 1.02 && worst > 0.6, "{worst}");
+    }
+
+    #[test]
+    fn finite_ten_centuries_away_and_consistent() {
+        let s = sirius();
+        let obs = Observer::new(-89.9, -179.9, 0.0).unwrap();
+        for jd in [J2000 - 365_250.0, J2000 + 365_250.0, 2_460_000.5] {
+            let e = Epoch::new(&Instant::from_tt(jd), NutationModel::Iau1980);
+            let red = StarReduction::new(&e);
+            let (geo, topo) = red.geocentric_and_topocentric(&s, &obs);
+            assert!(geo.vector.is_finite() && topo.alt.is_finite() && topo.az.is_finite());
+            assert_eq!(geo, red.apparent(&s));
+            assert_eq!(topo, red.topocentric(&s, &obs));
+            // Diurnal aberration separates them by at most 0.32″.
+            let d = libm::atan2(
+                geo.vector.cross(topo.place.vector).length(),
+                geo.vector.dot(topo.place.vector),
+            );
+            assert!(d / ARCSEC < 0.33);
+        }
     }
 
     #[test]

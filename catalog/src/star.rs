@@ -141,9 +141,10 @@ impl Catalog {
             let [name, bayer, flamsteed, constellation] = if name_idx == 0xFFFF {
                 Default::default()
             } else {
+                // Each entry belongs to one star: move it out, no copy.
                 names
-                    .get(name_idx as usize)
-                    .cloned()
+                    .get_mut(name_idx as usize)
+                    .map(std::mem::take)
                     .ok_or_else(|| r.error("name index out of range"))?
             };
             stars.push(Star {

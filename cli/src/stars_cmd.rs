@@ -111,8 +111,7 @@ pub fn run(args: &StarsArgs) -> Result<(), CliError> {
     let mut rows = Vec::new();
     let mut labels = Vec::new();
     for star in catalog.brighter_than(limit) {
-        let geo = reduction.apparent(&star.astrometry);
-        let topo = reduction.topocentric(&star.astrometry, &observer);
+        let (geo, topo) = reduction.geocentric_and_topocentric(&star.astrometry, &observer);
         if args.above_horizon && topo.alt <= 0.0 {
             continue;
         }
