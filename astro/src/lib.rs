@@ -38,6 +38,7 @@ pub use error::AstroError;
 
 pub mod ephemeris;
 pub mod observe;
+pub mod stars;
 
 pub use ephemeris::{Apparent, Body, Cached, Ephemeris, Epoch, Manual, Precision, Tiered};
 pub use observe::{Observer, Sky, Topocentric};

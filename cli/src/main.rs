@@ -5,6 +5,7 @@
 //! 3 resource unavailable, 1 other failure. Errors are one line on stderr.
 
 mod ephemeris_cmd;
+mod stars_cmd;
 mod timearg;
 
 use std::process::ExitCode;
@@ -62,6 +63,9 @@ enum Command {
     /// Apparent positions of the Sun, Moon and planets for an observer.
     #[command(allow_negative_numbers = true)]
     Ephemeris(ephemeris_cmd::EphemerisArgs),
+    /// Apparent places of the catalogue stars for an observer.
+    #[command(allow_negative_numbers = true)]
+    Stars(stars_cmd::StarsArgs),
 }
 
 fn main() -> ExitCode {
@@ -99,6 +103,7 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Ephemeris(args) => ephemeris_cmd::run(&args),
+        Command::Stars(args) => stars_cmd::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -251,3 +251,90 @@ fn table_output_is_the_default() {
     let s = String::from_utf8(out.stdout).unwrap();
     assert!(s.contains("moon") && s.contains("saturn") && s.contains("alt"));
 }
+
+#[test]
+fn stars_json_contract_and_errors() {
+    let out = himmel(&[
+        "stars",
+        "--time",
+        "2024-01-15T21:00:00Z",
+        "--lat",
+        "-33.9",
+        "--lon",
+        "-70.6",
+        "--limit-mag",
+        "1.0",
+        "--above-horizon",
+        "--format",
+        "json",
+    ]);
+    let v = json(&out);
+    let arr = v.as_array().unwrap();
+    assert!(!arr.is_empty());
+    for s in arr {
+        for k in [
+            "hip", "hr", "name", "vmag", "bv", "ra_deg", "dec_deg", "alt_deg", "az_deg",
+        ] {
+            assert!(s.get(k).is_some(), "missing {k}");
+        }
+        assert!(s["alt_deg"].as_f64().unwrap() > 0.0);
+        assert!(s["vmag"].as_f64().unwrap() <= 1.0);
+    }
+    // Brightest first; Canopus is up from Santiago on a January evening.
+    let v: Vec<f64> = arr.iter().map(|s| s["vmag"].as_f64().unwrap()).collect();
+    assert!(v.windows(2).all(|w| w[0] <= w[1]));
+    assert!(arr.iter().any(|s| s["name"] == "Canopus"));
+    let all = json(&himmel(&[
+        "stars",
+        "--time",
+        "2024-01-15T21:00:00Z",
+        "--lat",
+        "90",
+        "--lon",
+        "0",
+        "--format",
+        "json",
+    ]));
+    assert!(all.as_array().unwrap().len() >= 8800);
+    for (args, flag) in [
+        (
+            vec![
+                "stars",
+                "--time",
+                "2024-01-15T21:00:00Z",
+                "--lat",
+                "91",
+                "--lon",
+                "0",
+            ],
+            "--lat",
+        ),
+        (
+            vec!["stars", "--time", "yesterday", "--lat", "1", "--lon", "0"],
+            "--time",
+        ),
+        (vec!["stars", "--lat", "1", "--lon", "0"], "--time"),
+        (
+            vec![
+                "stars",
+                "--time",
+                "now",
+                "--lat",
+                "1",
+                "--lon",
+                "0",
+                "--limit-mag",
+                "NaN",
+            ],
+            "--limit-mag",
+        ),
+    ] {
+        let out = himmel(&args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("error:") && err.contains(flag) && err.lines().count() == 1,
+            "{err}"
+        );
+    }
+}
