@@ -130,7 +130,7 @@ pub fn run(args: &EphemerisArgs) -> Result<(), CliError> {
         }
         Format::Table => table(&doc),
     };
-    writeln!(out, "{text}").map_err(|e| CliError::other(format!("writing stdout: {e}")))?;
+    writeln!(out, "{text}").map_err(CliError::stdout)?;
     Ok(())
 }
 
@@ -178,12 +178,10 @@ fn run_batch(path: &str, bodies: &[Body], precision: Precision) -> Result<(), Cl
     let mut out = std::io::BufWriter::new(stdout.lock());
     for req in &requests {
         let doc = compute(req, bodies, precision).map_err(CliError::input)?;
-        serde_json::to_writer(&mut out, &doc).map_err(|e| CliError::other(e.to_string()))?;
-        out.write_all(b"\n")
-            .map_err(|e| CliError::other(format!("writing stdout: {e}")))?;
+        serde_json::to_writer(&mut out, &doc).map_err(CliError::json)?;
+        out.write_all(b"\n").map_err(CliError::stdout)?;
     }
-    out.flush()
-        .map_err(|e| CliError::other(format!("writing stdout: {e}")))?;
+    out.flush().map_err(CliError::stdout)?;
     Ok(())
 }
 

@@ -34,6 +34,25 @@ impl CliError {
             message: message.into(),
         }
     }
+    /// A failed write to stdout. A reader that stopped early (`| head`)
+    /// closes the pipe: that ends the program quietly with success.
+    pub fn stdout(e: std::io::Error) -> Self {
+        if e.kind() == std::io::ErrorKind::BrokenPipe {
+            CliError {
+                code: 0,
+                message: String::new(),
+            }
+        } else {
+            CliError::other(format!("writing stdout: {e}"))
+        }
+    }
+    /// A failed JSON write to stdout; see [`CliError::stdout`].
+    pub fn json(e: serde_json::Error) -> Self {
+        match e.io_error_kind() {
+            Some(kind) => CliError::stdout(kind.into()),
+            None => CliError::other(e.to_string()),
+        }
+    }
 }
 
 #[derive(Parser, Debug)]
@@ -108,7 +127,9 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {}", e.message.replace('\n', " "));
+            if !e.message.is_empty() {
+                eprintln!("error: {}", e.message.replace('\n', " "));
+            }
             ExitCode::from(e.code)
         }
     }

@@ -136,10 +136,10 @@ pub fn run(args: &StarsArgs) -> Result<(), CliError> {
 
     let stdout = std::io::stdout();
     let mut w = std::io::BufWriter::new(stdout.lock());
-    let io = |e: std::io::Error| CliError::other(format!("writing stdout: {e}"));
+    let io = CliError::stdout;
     match args.format {
         Format::Json => {
-            serde_json::to_writer(&mut w, &out).map_err(|e| CliError::other(e.to_string()))?;
+            serde_json::to_writer(&mut w, &out).map_err(CliError::json)?;
             writeln!(w).map_err(io)?;
         }
         Format::Table => {

@@ -338,3 +338,38 @@ fn stars_json_contract_and_errors() {
         );
     }
 }
+
+#[test]
+fn a_reader_that_stops_early_ends_the_program_quietly() {
+    // `himmel stars … | head -1`: the closed pipe is not an error.
+    use std::io::{BufRead, BufReader};
+    let mut child = Command::new(env!("CARGO_BIN_EXE_himmel"))
+        .args([
+            "stars",
+            "--time",
+            "2024-03-20T21:00:00Z",
+            "--lat",
+            "52.52",
+            "--lon",
+            "13.4",
+            "--limit-mag",
+            "8",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    let mut first = String::new();
+    BufReader::new(child.stdout.take().unwrap())
+        .read_line(&mut first)
+        .unwrap();
+    // The reader is dropped here: the pipe closes while the table is written.
+    let out = child.wait_with_output().unwrap();
+    assert!(!first.is_empty());
+    assert!(out.status.success(), "{:?}", out.status);
+    assert!(
+        out.stderr.is_empty(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
