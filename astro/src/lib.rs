@@ -36,6 +36,7 @@ pub mod time;
 pub use error::AstroError;
 
 pub mod ephemeris;
+pub mod events;
 pub mod observe;
 
 pub use ephemeris::{Apparent, Body, Cached, Ephemeris, Epoch, Manual, Precision, Tiered};
