@@ -122,8 +122,9 @@ SITES = [
 ]
 
 
-def altitude_minus_horizon(observer, body, name):
-    def f(jd):
+def site_functions(observer, body, name):
+    """f(jd) -> (altitude - horizon in degrees, hour angle in radians wrapped to [-pi, pi))."""
+    def both(jd):
         t = ts.tt_jd(jd)
         app = observer.at(t).observe(body).apparent()
         alt, _, dist = app.altaz()
@@ -131,17 +132,49 @@ def altitude_minus_horizon(observer, body, name):
             h0 = -0.8333
         else:
             h0 = -0.5667 - np.degrees(np.arcsin(MOON_R_KM / dist.km))
-        return alt.degrees - h0
-    return f
-
-
-def hour_angle(observer, body):
-    def f(jd):
-        t = ts.tt_jd(jd)
-        app = observer.at(t).observe(body).apparent()
         ha, _, _ = app.hadec()
-        return (ha.radians + math.pi) % (2 * math.pi) - math.pi
-    return f
+        return alt.degrees - h0, (ha.radians + math.pi) % (2 * math.pi) - math.pi
+    return both
+
+
+def site_crossings(both, jd0, jd1, step_days):
+    """Horizon crossings and upper transits on [jd0, jd1].
+
+    One evaluation per sample serves both searches. Near-tangent passes
+    (|f| at a local minimum below 0.02 degrees without a sign change) are
+    re-sampled every second, so that a graze shorter than the step is kept.
+    """
+    f = lambda x: both(x)[0]
+    g = lambda x: both(x)[1]
+    rs, trans = [], []
+    start = jd0
+    while start < jd1:
+        end = min(start + 31.0, jd1)
+        n = int(round((end - start) / step_days)) + 1
+        grid = np.linspace(start, end, n)
+        v, ha = both(grid)
+        s = np.sign(v)
+        idx = np.nonzero(s[:-1] * s[1:] < 0)[0]
+        if len(idx):
+            roots = bisect(f, grid[idx], grid[idx + 1])
+            rs.extend(zip(np.where(v[idx] < 0, 'rise', 'set').tolist(), roots.tolist()))
+        av = np.abs(v)
+        near = np.nonzero((av[1:-1] < 0.02) & (av[1:-1] <= av[:-2]) & (av[1:-1] <= av[2:])
+                          & (s[:-2] == s[1:-1]) & (s[1:-1] == s[2:]))[0] + 1
+        for i in near:
+            fine = np.linspace(grid[i - 1], grid[i + 1], int(round(2 * step_days * 86400)) + 1)
+            fv = f(fine)
+            fs = np.sign(fv)
+            fi = np.nonzero(fs[:-1] * fs[1:] < 0)[0]
+            if len(fi):
+                roots = bisect(f, fine[fi], fine[fi + 1])
+                rs.extend(zip(np.where(fv[fi] < 0, 'rise', 'set').tolist(), roots.tolist()))
+        idx = np.nonzero((ha[:-1] < 0) & (ha[1:] >= 0) & (ha[1:] - ha[:-1] < math.pi))[0]
+        if len(idx):
+            roots = bisect(g, grid[idx], grid[idx + 1])
+            trans.extend(roots.tolist())
+        start = end
+    return rs + [('transit', t) for t in trans]
 
 
 def gen_riseset():
@@ -152,20 +185,14 @@ def gen_riseset():
     for site, lat, lon in SITES:
         observer = earth + wgs84.latlon(lat, lon, elevation_m=0.0)
         for name, body in (('sun', sun), ('moon', moon)):
-            f = altitude_minus_horizon(observer, body, name)
-            ts_, ds_ = crossings(f, t0.tt, t1.tt, 1.0 / DAY_MIN)
-            events = [('rise' if d > 0 else 'set', tt) for tt, d in zip(ts_, ds_)]
-            ha = hour_angle(observer, body)
-            tt_, dd_ = crossings(ha, t0.tt, t1.tt, 1.0 / DAY_MIN)
-            for tt, d in zip(tt_, dd_):
-                if d > 0 and abs(ha(np.array([tt - 1e-3]))[0]) < 1.0:
-                    events.append(('transit', tt))
-            events.sort(key=lambda e: e[1])
+            both = site_functions(observer, body, name)
+            events = site_crossings(both, t0.tt, t1.tt, 2.0 / DAY_MIN)
+            events = sorted(set(events), key=lambda e: e[1])
             # Per-UTC-day states.
             states = []
             days = ts.utc(year, 1, range(1, 367))
             noon = ts.utc(year, 1, np.arange(1, 367), 12)
-            fn = f(noon.tt)
+            fn = both(noon.tt)[0]
             ev_days = set()
             for kind, tt in events:
                 if kind != 'transit':
