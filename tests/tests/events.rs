@@ -566,9 +566,11 @@ fn global_solar_eclipses_1900_2050_cross_check_astronomy_engine() {
     let mut pairs = Vec::new();
     let mut k = 0;
     for r in &refs {
-        while k < ours.len() && ours[k].greatest.jd_tt < r.jd_tt - 1.0 {
-            panic!("extra eclipse at JD {}", ours[k].greatest.jd_tt);
-        }
+        assert!(
+            k >= ours.len() || ours[k].greatest.jd_tt >= r.jd_tt - 1.0,
+            "extra eclipse at JD {}",
+            ours[k].greatest.jd_tt
+        );
         if k < ours.len() && (ours[k].greatest.jd_tt - r.jd_tt).abs() < 1.0 {
             pairs.push((&ours[k], r));
             k += 1;

@@ -269,7 +269,8 @@ where
     F: FnMut(f64) -> Result<f64, AstroError>,
     G: FnMut(Crossing),
 {
-    if !(t1 > t0) || !(params.step > 0.0) {
+    let bad = |x: f64| x.is_nan() || x <= 0.0;
+    if bad(t1 - t0) || bad(params.step) {
         return Ok(());
     }
     let n = libm::ceil((t1 - t0) / params.step).max(1.0) as u64;
@@ -286,8 +287,11 @@ where
     Ok(())
 }
 
+/// One step of [`scan_crossings`]: the sign changes of `f` on `[a, b]` given
+/// `fa = f(a)` and `fb = f(b)` (for callers that sample the grid themselves,
+/// e.g. to share evaluations between several searches). `depth` is 0.
 #[allow(clippy::too_many_arguments)]
-fn scan_segment<F, G>(
+pub fn scan_segment<F, G>(
     f: &mut F,
     a: f64,
     b: f64,

@@ -8,16 +8,20 @@
 //! included; planets at −0.5667°. The horizon is the sea-level one: the
 //! observer's elevation moves the observer but adds no dip.
 //!
-//! Search: the function f(t) = altitude(t) − horizon(t) is scanned over the
-//! day with [`super::scan_crossings`] at a one-hour step, using the
-//! curvature bound |f''| ≤ 2400°/day²: the Earth's rotation gives
-//! |d²h/dt²| ≤ ω² cos φ cos δ with ω = 360.99°/day (6.30 rad/day, so
-//! ω² = 2274°/day²), topocentric parallax adds at most 1°·ω² = 40°/day², the
-//! Moon's motion in declination less than 2°/day². The bound holds wherever
-//! the altitude is away from the zenith (where it has a cusp); an hour-long
-//! interval containing a zenith passage has both ends far above the horizon
-//! and cannot hold a root. Near-tangent passes are subdivided down to 1 s
-//! (a graze shallower than 2400·(1 s)²/8 ≈ 4·10⁻⁸ degrees is not an event).
+//! Search: the horizon crossings are the roots of
+//! g(t) = sin(altitude(t)) − sin(horizon(t)) (sin is monotonic on
+//! [−90°, 90°], so these are exactly the roots of altitude − horizon). g is
+//! scanned over the day with the method of [`super::scan_crossings`] at a
+//! two-hour step, using the curvature bound |g''| ≤ 42 per day²: with
+//! sin h = sin φ sin δ + cos φ cos δ cos H, the Earth's rotation
+//! (ω = 6.300 rad/day) gives |d²/dt²| ≤ ω² cos φ cos δ ≤ 39.7/day² everywhere,
+//! the Moon's diurnal parallax (≤ 0.0167 rad) adds ≤ 0.7/day², its motion in
+//! declination (and the cross term with the hour angle) less than 0.3/day²,
+//! the change of the Moon's semidiameter nothing noticeable. With the
+//! two-hour step the margin is 42·(1/12)²/8 = 0.036 (about 2°): a segment
+//! whose samples both lie further from the horizon cannot hide a pair of
+//! crossings; nearer ones are halved down to 1 s (a graze shallower than
+//! 42·(1 s)²/8 ≈ 7·10⁻¹⁰, i.e. 4·10⁻⁸ degrees, is not an event).
 //! Upper transit: the instant when the topocentric hour angle crosses 0
 //! from negative to positive (whatever the altitude).
 //!
@@ -31,16 +35,18 @@ use crate::observe::Observer;
 use crate::time::{Instant, UtcDateTime};
 use crate::units::*;
 
-use super::{brent_root, instant_tt, scan_crossings, ScanParams};
+use super::{brent_root, instant_tt, scan_segment, ScanParams};
 
 /// Standard horizon of the Sun's centre, degrees (refraction + semidiameter).
 pub const SUN_HORIZON_DEG: Degrees = -0.8333;
 /// Standard refraction at the horizon, degrees (used for the Moon and planets).
 pub const REFRACTION_HORIZON_DEG: Degrees = -0.5667;
-/// Bound on |d²(altitude − horizon)/dt²|, degrees per day² (module docs).
-pub const MAX_ALTITUDE_CURVATURE: f64 = 2400.0;
-/// Scan step of the horizon search, days (one hour).
-pub const SCAN_STEP_DAYS: f64 = 1.0 / 24.0;
+/// Bound on |d²(sin altitude − sin horizon)/dt²|, per day² (module docs).
+pub const MAX_SINE_ALTITUDE_CURVATURE: f64 = 42.0;
+/// Scan step of the horizon search, days (two hours).
+pub const SCAN_STEP_DAYS: f64 = 2.0 / 24.0;
+/// Grid points of a search over at most two days.
+const MAX_GRID: usize = 26;
 
 /// The altitude that counts as "on the horizon" for a body.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -188,6 +194,24 @@ pub fn altitude_above_horizon<E: Ephemeris>(
     ))
 }
 
+/// sin(altitude) − sin(horizon) and the wrapped hour angle (module docs).
+fn sample<E: Ephemeris>(
+    eph: &E,
+    body: Body,
+    observer: &Observer,
+    horizon: &Horizon,
+    jd_tt: JulianDay,
+) -> Result<(f64, Radians), AstroError> {
+    let epoch = Epoch::new(&instant_tt(jd_tt), eph.nutation_model());
+    let geo = eph.apparent(body, &epoch)?;
+    let topo = observer.topocentric(&geo, &epoch);
+    let h0 = horizon.altitude_deg(topo.distance_km) * DEG;
+    Ok((
+        libm::sin(topo.alt) - libm::sin(h0),
+        wrap_pi(topo.hour_angle),
+    ))
+}
+
 /// TT Julian days of 0h UTC of `(year, month, day)` and of the next day.
 pub fn utc_day_bounds(year: i32, month: u8, day: u8) -> Result<(JulianDay, JulianDay), AstroError> {
     let start = Instant::from_utc(&UtcDateTime::new(year, month, day, 0, 0, 0.0)?)?;
@@ -253,50 +277,55 @@ pub fn events_between<E: Ephemeris>(
     };
     let params = ScanParams {
         step: SCAN_STEP_DAYS,
-        max_curvature: MAX_ALTITUDE_CURVATURE,
+        max_curvature: MAX_SINE_ALTITUDE_CURVATURE,
         min_span: 1.0 / SECONDS_PER_DAY,
-        tol: 1e-3 / SECONDS_PER_DAY,
+        tol: 1e-2 / SECONDS_PER_DAY,
     };
-    // Hour-angle samples for the transit search, kept from the same
-    // evaluations as the horizon scan on the regular grid.
-    let mut crossings = 0usize;
-    let mut first_value = 0.0;
-    let mut first = true;
-    let f = |t: f64| -> Result<f64, AstroError> {
-        let (h, _) = altitude_above_horizon(eph, body, observer, horizon, t)?;
-        if first {
-            first_value = h;
-            first = false;
-        }
-        Ok(h)
-    };
-    scan_crossings(f, t0, t1, &params, |c| {
-        if c.jd_tt < t1 {
-            crossings += 1;
-            out.push(Event {
-                kind: if c.rising {
-                    EventKind::Rise
-                } else {
-                    EventKind::Set
-                },
-                instant: instant_tt(c.jd_tt),
-            });
-        }
-    })?;
-    // Transits: the hour angle grows by ~15°/h; sample hourly and refine the
-    // − → + sign changes (the +π → −π wrap is a + → − change).
-    let n = libm::ceil((t1 - t0) / SCAN_STEP_DAYS).max(1.0) as usize;
+    // One evaluation per grid point serves both searches: f for the horizon
+    // scan, the hour angle for transits.
+    let n = (libm::ceil((t1 - t0) / SCAN_STEP_DAYS).max(1.0) as usize).min(MAX_GRID - 1);
     let h = (t1 - t0) / n as f64;
-    let ha = |t: f64| -> Result<f64, AstroError> {
-        Ok(altitude_above_horizon(eph, body, observer, horizon, t)?.1)
-    };
-    let mut a = t0;
-    let mut fa = ha(a)?;
-    for i in 1..=n {
-        let b = if i == n { t1 } else { t0 + h * i as f64 };
-        let fb = ha(b)?;
-        if fa < 0.0 && fb >= 0.0 && fb - fa < core::f64::consts::PI {
-            let t = brent_root(ha, a, b, fa, fb, params.tol)?;
+    let mut grid = [(0.0, 0.0, 0.0); MAX_GRID];
+    for (i, g) in grid.iter_mut().enumerate().take(n + 1) {
+        let t = if i == n { t1 } else { t0 + h * i as f64 };
+        let (f, ha) = sample(eph, body, observer, horizon, t)?;
+        *g = (t, f, ha);
+    }
+    let mut f =
+        |t: f64| -> Result<f64, AstroError> { Ok(sample(eph, body, observer, horizon, t)?.0) };
+    let mut crossings = 0usize;
+    for w in grid[..=n].windows(2) {
+        let ((a, fa, _), (b, fb, _)) = (w[0], w[1]);
+        scan_segment(
+            &mut f,
+            a,
+            b,
+            fa,
+            fb,
+            &params,
+            &mut |c| {
+                if c.jd_tt < t1 {
+                    crossings += 1;
+                    out.push(Event {
+                        kind: if c.rising {
+                            EventKind::Rise
+                        } else {
+                            EventKind::Set
+                        },
+                        instant: instant_tt(c.jd_tt),
+                    });
+                }
+            },
+            0,
+        )?;
+    }
+    // Transits: the hour angle grows by ~30° per step; refine the − → +
+    // sign changes (the +π → −π wrap is a + → − change).
+    let ha = |t: f64| -> Result<f64, AstroError> { Ok(sample(eph, body, observer, horizon, t)?.1) };
+    for w in grid[..=n].windows(2) {
+        let ((a, _, ha_a), (b, _, ha_b)) = (w[0], w[1]);
+        if ha_a < 0.0 && ha_b >= 0.0 && ha_b - ha_a < core::f64::consts::PI {
+            let t = brent_root(ha, a, b, ha_a, ha_b, params.tol)?;
             if t < t1 {
                 out.push(Event {
                     kind: EventKind::Transit,
@@ -304,9 +333,8 @@ pub fn events_between<E: Ephemeris>(
                 });
             }
         }
-        a = b;
-        fa = fb;
     }
+    let first_value = grid[0].1;
     out.sort();
     out.state = if crossings > 0 {
         DayState::Normal

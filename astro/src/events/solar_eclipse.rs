@@ -339,7 +339,7 @@ impl LocalDisks {
 /// radius `rm` whose centre is `s` away (the lens area of two circles,
 /// e.g. Weisstein, *Circle–Circle Intersection*), in [0, 1].
 pub fn disk_overlap_fraction(s: f64, rs: f64, rm: f64) -> f64 {
-    if !(rs > 0.0) || s >= rs + rm {
+    if rs.is_nan() || rs <= 0.0 || s >= rs + rm {
         return 0.0;
     }
     if s <= (rs - rm).abs() {
