@@ -8,7 +8,7 @@ use himmel_astro::events::lunar_eclipse::lunar_eclipses;
 use himmel_astro::events::phases::phases;
 use himmel_astro::events::riseset::rise_set_transit;
 use himmel_astro::events::solar_eclipse::{local_solar_eclipses, solar_eclipses};
-use himmel_astro::events::MAX_SEARCH_DAYS;
+use himmel_astro::events::{MAX_SEARCH_DAYS, MAX_SEARCH_JD, MIN_SEARCH_JD};
 use himmel_astro::{AstroError, Body, Instant, Observer, Precision, Tiered, UtcDateTime};
 use serde_json::{json, Value};
 
@@ -170,6 +170,13 @@ fn interval(args: &IntervalArgs) -> Result<(Instant, Instant), CliError> {
             "--to: the interval {} .. {} is longer than the maximum of 1000 years",
             args.from, args.to
         )));
+    }
+    for (flag, v, i) in [("--from", &args.from, &a), ("--to", &args.to, &b)] {
+        if !(MIN_SEARCH_JD..=MAX_SEARCH_JD).contains(&i.jd_tt) {
+            return Err(CliError::input(format!(
+                "{flag} {v} is outside the searchable years -4000 .. 8000"
+            )));
+        }
     }
     Ok((a, b))
 }

@@ -645,3 +645,29 @@ fn global_solar_eclipses_match_nasa_canon() {
     }
     let _ = LocalSolarKind::Total;
 }
+
+#[test]
+fn phases_far_from_j2000_are_complete_and_exact() {
+    // Years −3000 and +6000: every phase satisfies its elongation condition,
+    // none is missing (quarters 6–8.5 days apart, cycling in order).
+    use himmel_astro::events::phases::elongation_in_longitude;
+    for (y0, y1) in [(-3000, -2999), (6000, 6001)] {
+        let list: Vec<_> = phases(EPH, &utc(y0, 1, 1, 0, 0), &utc(y1, 1, 1, 0, 0))
+            .unwrap()
+            .map(Result::unwrap)
+            .collect();
+        assert!((48..=51).contains(&list.len()), "{y0}: {}", list.len());
+        for w in list.windows(2) {
+            let gap = w[1].instant.jd_tt - w[0].instant.jd_tt;
+            assert!((6.0..8.5).contains(&gap), "{y0}: gap {gap}");
+            assert_eq!((w[0].phase.quarter() + 1) % 4, w[1].phase.quarter());
+        }
+        for p in &list {
+            let e = elongation_in_longitude(&EPH, p.instant.jd_tt).unwrap();
+            let target = p.phase.quarter() as f64 * 90.0 * DEG;
+            let d = (e - target + 3.0 * std::f64::consts::PI).rem_euclid(std::f64::consts::TAU)
+                - std::f64::consts::PI;
+            assert!(d.abs() < 1e-6, "{y0}: {d}");
+        }
+    }
+}

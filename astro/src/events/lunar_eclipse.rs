@@ -362,3 +362,33 @@ impl<E: Ephemeris> Iterator for LunarEclipses<E> {
         None
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn shadow_radii_of_a_mean_configuration() {
+        // Sun 1 AU along +x, Moon 384 400 km along −x, 0.5° north of the axis.
+        let sun = DVec3::new(KM_PER_AU, 0.0, 0.0);
+        let d = 0.5 * DEG;
+        let moon = DVec3::new(-libm::cos(d), 0.0, libm::sin(d)) * 384_400.0;
+        let g = ShadowGeometry::from_vectors(sun, moon);
+        let pi_m = libm::asin(WGS84_A_KM / 384_400.0);
+        let pi_s = libm::asin(WGS84_A_KM / KM_PER_AU);
+        let s_s = libm::asin(SUN_RADIUS_KM / KM_PER_AU);
+        assert!((g.umbra_radius - (DANJON_FACTOR * pi_m + pi_s - s_s)).abs() < 1e-15);
+        assert!((g.penumbra_radius - (DANJON_FACTOR * pi_m + pi_s + s_s)).abs() < 1e-15);
+        // Roughly 0.69° and 1.22° for these distances.
+        assert!((g.umbra_radius / DEG - 0.694).abs() < 0.01);
+        assert!((g.penumbra_radius / DEG - 1.227).abs() < 0.01);
+        assert!((g.moon_axis_distance - d).abs() < 1e-12);
+        // North of the axis: positive gamma, offset toward north.
+        assert!((g.gamma - 384_400.0 * libm::sin(d) / WGS84_A_KM).abs() < 1e-9);
+        assert!(g.offset_north > 0.0 && g.offset_east.abs() < 1e-12);
+        // Depth: the southern limb (toward the axis) is deeper than the northern.
+        assert!(g.shadow_depth(0.0, -1.0) > g.shadow_depth(0.0, 1.0));
+        assert!(g.shadow_depth(0.0, -1.0) > 1.0);
+        assert!((DANJON_FACTOR - 1.010_085).abs() < 1e-6);
+    }
+}

@@ -54,12 +54,27 @@ pub fn instant_tt(jd_tt: JulianDay) -> Instant {
     Instant::from_tt(jd_tt)
 }
 
+/// Earliest instant the interval searches accept, TT Julian day (−4000 January 1, Julian calendar).
+/// Meeus' mean-lunation polynomial (eq. 49.1), which seeds every search, and
+/// the lunar series behind the standard tier are fitted to a few millennia
+/// around J2000; far outside them the first guesses stop being within a day.
+pub const MIN_SEARCH_JD: JulianDay = 260_423.5;
+/// Latest instant the interval searches accept, TT Julian day (8000 January 1).
+pub const MAX_SEARCH_JD: JulianDay = 4_642_999.5;
+
 /// Checks a search interval `[from, to]` (TT Julian days): finite, ordered,
-/// at most [`MAX_SEARCH_DAYS`] long.
+/// within years −4000 … +8000 ([`MIN_SEARCH_JD`], [`MAX_SEARCH_JD`]) and at
+/// most [`MAX_SEARCH_DAYS`] long.
 pub fn check_interval(from: &Instant, to: &Instant) -> Result<(JulianDay, JulianDay), AstroError> {
     let (a, b) = (from.jd_tt, to.jd_tt);
-    AstroError::check_range("search start (TT JD)", a, -1.0e8, 1.0e8)?;
-    AstroError::check_range("search end (TT JD)", b, a, a + MAX_SEARCH_DAYS)?;
+    AstroError::check_range(
+        "search start (TT Julian day)",
+        a,
+        MIN_SEARCH_JD,
+        MAX_SEARCH_JD,
+    )?;
+    AstroError::check_range("search end (TT Julian day)", b, a, MAX_SEARCH_JD)?;
+    AstroError::check_range("search length (days)", b - a, 0.0, MAX_SEARCH_DAYS)?;
     Ok((a, b))
 }
 

@@ -572,3 +572,41 @@ impl<E: Ephemeris> Iterator for LocalSolarEclipses<E> {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn overlap_fraction_limits_and_equal_disks() {
+        assert_eq!(disk_overlap_fraction(2.1, 1.0, 1.0), 0.0);
+        assert_eq!(disk_overlap_fraction(0.0, 1.0, 1.1), 1.0);
+        assert!((disk_overlap_fraction(0.0, 1.0, 0.5) - 0.25).abs() < 1e-15);
+        // Two unit circles one radius apart: lens area 2π/3 − √3/2.
+        let lens =
+            (2.0 * core::f64::consts::PI / 3.0 - libm::sqrt(3.0) / 2.0) / core::f64::consts::PI;
+        assert!((disk_overlap_fraction(1.0, 1.0, 1.0) - lens).abs() < 1e-12);
+        // Continuous at both contacts.
+        assert!(disk_overlap_fraction(2.0 - 1e-9, 1.0, 1.0) < 1e-9);
+        assert!((disk_overlap_fraction(0.5 + 1e-12, 1.0, 0.5) - 0.25).abs() < 1e-6);
+    }
+
+    #[test]
+    fn besselian_geometry_of_an_aligned_configuration() {
+        // Sun 1 AU along +x, Moon 360 000 km (near perigee) along +x on the
+        // axis: the axis passes through the Earth's centre and the umbra
+        // reaches it (at the mean distance, 384 400 km, it would not).
+        let sun = DVec3::new(KM_PER_AU, 0.0, 0.0);
+        let moon = DVec3::new(360_000.0, 0.0, 0.0);
+        let b = BesselianGeometry::from_vectors(sun, moon);
+        assert!(b.axis_distance() < 1e-12);
+        assert!(b.l2 < 0.0 && b.l1 > 0.5, "{b:?}");
+        let far = BesselianGeometry::from_vectors(sun, DVec3::new(384_400.0, 0.0, 0.0));
+        assert!(far.l2 > 0.0);
+        // Umbral cone: the vertex lies (R☉ − k)/... behind the Moon; at the
+        // Earth's centre the umbral radius is k − z·tan f₂ below zero.
+        let k = MOON_RADIUS_KM / WGS84_A_KM;
+        let z = 360_000.0 / WGS84_A_KM;
+        assert!((b.l2 - (z * b.tan_f2 - k * libm::sqrt(1.0 + b.tan_f2 * b.tan_f2))).abs() < 1e-12);
+    }
+}
