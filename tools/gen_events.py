@@ -21,6 +21,8 @@ What is computed, and how (every definition matches spec/cli.md):
   bisection; transits are the − → + sign changes of the topocentric hour angle.
   Per UTC day the state is `normal` when a rise or set happens that day, else
   `always_up`/`always_down` from the sign at the day's noon.
+* events_riseset_planets.json — the same for Venus, Mars and Jupiter
+  (DE421 system barycentres; horizon −0.5667°, refraction only) at three sites.
 * events_lunar.json — every lunar eclipse 1900–2050 from
   `skyfield.eclipselib.lunar_eclipses` (Explanatory Supplement 11.2.3, Danjon
   enlargement as 1.01 × the Moon's parallax), plus gamma (Moon centre distance
@@ -130,8 +132,10 @@ def site_functions(observer, body, name):
         alt, _, dist = app.altaz()
         if name == 'sun':
             h0 = -0.8333
-        else:
+        elif name == 'moon':
             h0 = -0.5667 - np.degrees(np.arcsin(MOON_R_KM / dist.km))
+        else:
+            h0 = -0.5667
         ha, _, _ = app.hadec()
         return alt.degrees - h0, (ha.radians + math.pi) % (2 * math.pi) - math.pi
     return both
@@ -177,14 +181,20 @@ def site_crossings(both, jd0, jd1, step_days):
     return rs + [('transit', t) for t in trans]
 
 
-def gen_riseset():
+PLANET_SITES = [s for s in SITES if s[0] in ('equator', 'berlin', 'svalbard')]
+PLANETS = (('venus', 'venus barycenter'), ('mars', 'mars barycenter'),
+           ('jupiter', 'jupiter barycenter'))
+
+
+def gen_riseset(sites=SITES, bodies=(('sun', 'sun'), ('moon', 'moon'))):
     year = 2024
     t0 = ts.utc(year, 1, 1)
     t1 = ts.utc(year + 1, 1, 1)
     out = []
-    for site, lat, lon in SITES:
+    for site, lat, lon in sites:
         observer = earth + wgs84.latlon(lat, lon, elevation_m=0.0)
-        for name, body in (('sun', sun), ('moon', moon)):
+        for name, key in bodies:
+            body = eph[key]
             both = site_functions(observer, body, name)
             events = site_crossings(both, t0.tt, t1.tt, 2.0 / DAY_MIN)
             events = sorted(set(events), key=lambda e: e[1])
@@ -404,3 +414,5 @@ if __name__ == '__main__':
              'Astronomy Engine SearchGlobalSolarEclipse (tools/gen_events.py)')
     if 'riseset' in which:
         dump('events_riseset.json', gen_riseset(), src)
+    if 'riseset_planets' in which:
+        dump('events_riseset_planets.json', gen_riseset(PLANET_SITES, PLANETS), src)

@@ -105,9 +105,10 @@ fn days_of_year(year: i32) -> Vec<(u8, u8)> {
     v
 }
 
-#[test]
-fn rise_set_transit_2024_pole_to_pole_within_60_s() {
-    let refs: Vec<RiseSetRef> = serde_json::from_value(fixture("events_riseset.json")).unwrap();
+/// Every day of the fixture: same state, same events, times within 60 s.
+/// Returns the number of events compared.
+fn check_riseset(file: &str) -> usize {
+    let refs: Vec<RiseSetRef> = serde_json::from_value(fixture(file)).unwrap();
     let mut compared = 0usize;
     for r in &refs {
         let obs = Observer::new(r.lat, r.lon, 0.0).unwrap();
@@ -146,7 +147,19 @@ fn rise_set_transit_2024_pole_to_pole_within_60_s() {
         }
         println!("{} {}: worst {worst:.2} s", r.site, r.body);
     }
+    compared
+}
+
+#[test]
+fn rise_set_transit_2024_pole_to_pole_within_60_s() {
+    let compared = check_riseset("events_riseset.json");
     assert!(compared > 14_000, "{compared} events compared");
+}
+
+#[test]
+fn planet_rise_set_transit_2024_within_60_s() {
+    let compared = check_riseset("events_riseset_planets.json");
+    assert!(compared > 8_000, "{compared} events compared");
 }
 
 #[test]

@@ -24,7 +24,11 @@
 //! (m < 1 + |l₂|): total or annular by the sign of l₂ (non-central); else
 //! partial while m < 1 + l₁. Magnitude at greatest eclipse (NASA's
 //! convention): central (L₁ − L₂)/(L₁ + L₂) with L₁ = l₁ − ζ tan f₁;
-//! otherwise (l₁ − (m − 1))/(l₁ + l₂).
+//! otherwise (l₁ − (m − 1))/(l₁ + l₂). The Moon's radius is the IAU mean
+//! 1737.4 km (k = 0.272 40) throughout; NASA's canon uses the smaller
+//! k = 0.272 281 for umbral phases, so an eclipse within about 0.0005 of
+//! magnitude 1 (e.g. 1948 May 9) may be typed hybrid/total here and annular
+//! there.
 //!
 //! **Local circumstances** come straight from topocentric apparent places of
 //! the Sun and the Moon (no refraction): with separation s and topocentric
