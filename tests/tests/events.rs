@@ -684,3 +684,20 @@ fn phases_far_from_j2000_are_complete_and_exact() {
         }
     }
 }
+
+#[test]
+fn first_sunrise_after_the_polar_night_grazes_for_14_minutes() {
+    // Tromsø, 2024 January 15: the Sun's centre clears −0.8333° for about
+    // 14 minutes around noon (DE421 reference: rise 10:46:33, set 11:00:54
+    // UTC), far inside one two-hour scan step. January 14 is still polar night.
+    let tromso = Observer::new(69.65, 18.96, 0.0).unwrap();
+    let before = rise_set_transit(&EPH, Body::Sun, &tromso, 2024, 1, 14).unwrap();
+    assert_eq!(before.state, DayState::AlwaysDown);
+    let day = rise_set_transit(&EPH, Body::Sun, &tromso, 2024, 1, 15).unwrap();
+    assert_eq!(day.state, DayState::Normal);
+    let kinds: Vec<_> = day.events().iter().map(|e| e.kind).collect();
+    assert_eq!(kinds, [EventKind::Rise, EventKind::Transit, EventKind::Set]);
+    let ev = day.events();
+    let gap_min = (ev[2].instant.jd_tt - ev[0].instant.jd_tt) * 1440.0;
+    assert!((gap_min - 14.3).abs() < 0.5, "{gap_min} min");
+}
