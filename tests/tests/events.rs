@@ -246,6 +246,22 @@ fn rise_set_rejects_invalid_dates() {
     assert!(rise_set_transit(&EPH, Body::Sun, &obs, 2023, 2, 29).is_err());
     assert!(rise_set_transit(&EPH, Body::Sun, &obs, 2024, 13, 1).is_err());
     assert!(utc_day_bounds(2024, 12, 31).is_ok());
+    // A day that ends with a leap second lasts 86 401 s and works normally.
+    let (a, b) = utc_day_bounds(2016, 12, 31).unwrap();
+    assert!(((b - a) * 86_400.0 - 86_401.0).abs() < 1e-3);
+    let berlin = Observer::new(52.52, 13.405, 0.0).unwrap();
+    let ev = rise_set_transit(&EPH, Body::Sun, &berlin, 2016, 12, 31).unwrap();
+    assert_eq!(ev.state, DayState::Normal);
+    assert_eq!(ev.events().len(), 3);
+    // Longitude −180 and +180 are the same meridian.
+    let w = Observer::new(-17.7, -180.0, 0.0).unwrap();
+    let e = Observer::new(-17.7, 180.0, 0.0).unwrap();
+    let ew = rise_set_transit(&EPH, Body::Moon, &w, 2024, 5, 5).unwrap();
+    let ee = rise_set_transit(&EPH, Body::Moon, &e, 2024, 5, 5).unwrap();
+    assert_eq!(ew.events().len(), ee.events().len());
+    for (x, y) in ew.events().iter().zip(ee.events()) {
+        assert!(secs(x.instant.jd_tt, y.instant.jd_tt) < 1e-3);
+    }
 }
 
 // ------------------------------------------------------------------ lunar eclipses
