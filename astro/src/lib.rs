@@ -37,6 +37,7 @@ pub mod time;
 pub use error::AstroError;
 
 pub mod ephemeris;
+pub mod events;
 pub mod observe;
 pub mod stars;
 

@@ -5,6 +5,7 @@
 //! 3 resource unavailable, 1 other failure. Errors are one line on stderr.
 
 mod ephemeris_cmd;
+mod events_cmd;
 mod stars_cmd;
 mod timearg;
 
@@ -85,6 +86,14 @@ enum Command {
     /// Apparent places of the catalogue stars for an observer.
     #[command(allow_negative_numbers = true)]
     Stars(stars_cmd::StarsArgs),
+    /// Principal Moon phases in an interval.
+    Phases(events_cmd::PhasesArgs),
+    /// Rise, set and transit of the Sun or Moon on one UTC day.
+    #[command(allow_negative_numbers = true)]
+    Riseset(events_cmd::RiseSetArgs),
+    /// Lunar and solar eclipses in an interval (solar: global or --local).
+    #[command(allow_negative_numbers = true)]
+    Eclipses(events_cmd::EclipsesArgs),
 }
 
 fn main() -> ExitCode {
@@ -123,6 +132,9 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Command::Ephemeris(args) => ephemeris_cmd::run(&args),
         Command::Stars(args) => stars_cmd::run(&args),
+        Command::Phases(args) => events_cmd::run_phases(&args),
+        Command::Riseset(args) => events_cmd::run_riseset(&args),
+        Command::Eclipses(args) => events_cmd::run_eclipses(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,423 @@
+//! `himmel phases`, `himmel riseset`, `himmel eclipses`: sky events
+//! (spec/cli.md). The science is in `himmel_astro::events`.
+
+use std::io::Write;
+
+use clap::{Args, ValueEnum};
+use himmel_astro::events::lunar_eclipse::lunar_eclipses;
+use himmel_astro::events::phases::phases;
+use himmel_astro::events::riseset::rise_set_transit;
+use himmel_astro::events::solar_eclipse::{local_solar_eclipses, solar_eclipses};
+use himmel_astro::events::{MAX_SEARCH_DAYS, MAX_SEARCH_JD, MIN_SEARCH_JD};
+use himmel_astro::{AstroError, Body, Instant, Observer, Precision, Tiered, UtcDateTime};
+use serde_json::{json, Value};
+
+use crate::ephemeris_cmd::parse_precision;
+use crate::timearg::{format_utc, parse_rfc3339};
+use crate::{CliError, Format};
+
+/// Interval flags shared by `phases` and `eclipses`.
+#[derive(Args, Debug)]
+pub struct IntervalArgs {
+    /// Start of the interval: YYYY-MM-DD (0h UTC) or RFC 3339.
+    #[arg(long, value_name = "DATE")]
+    from: String,
+    /// End of the interval (exclusive): YYYY-MM-DD (0h UTC) or RFC 3339; at
+    /// most 1000 years after --from.
+    #[arg(long, value_name = "DATE")]
+    to: String,
+}
+
+#[derive(Args, Debug)]
+pub struct PhasesArgs {
+    #[command(flatten)]
+    interval: IntervalArgs,
+    /// Accuracy tier: low, standard or high.
+    #[arg(long, value_name = "TIER", default_value = "standard")]
+    precision: String,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
+}
+
+#[derive(Args, Debug)]
+pub struct RiseSetArgs {
+    /// Body: sun or moon (planets are accepted too).
+    #[arg(long, value_name = "BODY")]
+    body: String,
+    /// UTC calendar day, YYYY-MM-DD.
+    #[arg(long, value_name = "DATE")]
+    date: String,
+    /// Geodetic latitude, degrees in [-90, 90].
+    #[arg(long, value_name = "DEG")]
+    lat: f64,
+    /// East longitude, degrees in [-180, 180] (360-wrapped input accepted).
+    #[arg(long, value_name = "DEG")]
+    lon: f64,
+    /// Elevation above the WGS84 ellipsoid, metres.
+    #[arg(long, value_name = "M", default_value_t = 0.0)]
+    elevation: f64,
+    /// Accuracy tier: low, standard or high.
+    #[arg(long, value_name = "TIER", default_value = "standard")]
+    precision: String,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
+}
+
+/// Which eclipses.
+#[derive(Copy, Clone, Debug, PartialEq, Eq, ValueEnum)]
+pub enum EclipseKindArg {
+    /// Lunar eclipses.
+    Lunar,
+    /// Solar eclipses (global, or local with --local).
+    Solar,
+}
+
+#[derive(Args, Debug)]
+pub struct EclipsesArgs {
+    /// lunar or solar.
+    #[arg(long, value_enum)]
+    kind: EclipseKindArg,
+    /// Solar eclipses only: local circumstances for --lat/--lon.
+    #[arg(long)]
+    local: bool,
+    #[command(flatten)]
+    interval: IntervalArgs,
+    /// Geodetic latitude, degrees in [-90, 90] (with --local).
+    #[arg(long, value_name = "DEG")]
+    lat: Option<f64>,
+    /// East longitude, degrees in [-180, 180] (with --local).
+    #[arg(long, value_name = "DEG")]
+    lon: Option<f64>,
+    /// Elevation above the WGS84 ellipsoid, metres (with --local).
+    #[arg(long, value_name = "M", default_value_t = 0.0)]
+    elevation: f64,
+    /// Accuracy tier: low, standard or high (high uses the DE421-fitted
+    /// Moon: local contacts to about 1 s instead of about 10 s).
+    #[arg(long, value_name = "TIER", default_value = "standard")]
+    precision: String,
+    /// Output format.
+    #[arg(long, value_enum, default_value_t = Format::Table)]
+    format: Format,
+}
+
+/// Parses `YYYY-MM-DD` (0h UTC) or an RFC 3339 time for `flag`.
+fn parse_date_or_time(flag: &str, s: &str) -> Result<UtcDateTime, String> {
+    let t = s.trim();
+    if t.len() == 10 && t.as_bytes().get(4) == Some(&b'-') {
+        let (y, m, d) = parse_ymd(flag, t)?;
+        return UtcDateTime::new(y, m, d, 0, 0, 0.0)
+            .map_err(|e| format!("{flag}: '{s}' is not a valid date ({e}); expected YYYY-MM-DD"));
+    }
+    parse_rfc3339(t).map_err(|e| format!("{flag}: {e}"))
+}
+
+/// Parses `YYYY-MM-DD`.
+fn parse_ymd(flag: &str, s: &str) -> Result<(i32, u8, u8), String> {
+    let fail = || format!("{flag}: '{s}' is not a date; expected YYYY-MM-DD");
+    let b = s.trim().as_bytes();
+    if b.len() != 10 || b[4] != b'-' || b[7] != b'-' {
+        return Err(fail());
+    }
+    let digits = |r: core::ops::Range<usize>| -> Result<u32, String> {
+        let part = &s.trim()[r];
+        if part.bytes().all(|c| c.is_ascii_digit()) {
+            part.parse().map_err(|_| fail())
+        } else {
+            Err(fail())
+        }
+    };
+    let (y, m, d) = (digits(0..4)?, digits(5..7)?, digits(8..10)?);
+    if !(1..=12).contains(&m) || !(1..=31).contains(&d) {
+        return Err(fail());
+    }
+    Ok((y as i32, m as u8, d as u8))
+}
+
+/// Checks a finite value against a range, naming the flag.
+fn check(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, CliError> {
+    if v.is_finite() && v >= min && v <= max {
+        Ok(v)
+    } else {
+        Err(CliError::input(format!(
+            "{flag} {v} is outside [{min}, {max}]"
+        )))
+    }
+}
+
+fn observer(lat: f64, lon: f64, elevation: f64) -> Result<Observer, CliError> {
+    let lat = check("--lat", lat, -90.0, 90.0)?;
+    let lon = check("--lon", lon, -360.0, 360.0)?;
+    let elevation = check("--elevation", elevation, -12_000.0, 100_000.0)?;
+    Observer::new(lat, lon, elevation).map_err(|e| CliError::input(e.to_string()))
+}
+
+/// The validated interval as instants.
+fn interval(args: &IntervalArgs) -> Result<(Instant, Instant), CliError> {
+    let from = parse_date_or_time("--from", &args.from).map_err(CliError::input)?;
+    let to = parse_date_or_time("--to", &args.to).map_err(CliError::input)?;
+    let a = Instant::from_utc(&from).map_err(|e| CliError::input(format!("--from: {e}")))?;
+    let b = Instant::from_utc(&to).map_err(|e| CliError::input(format!("--to: {e}")))?;
+    if b.jd_tt < a.jd_tt {
+        return Err(CliError::input(format!(
+            "--to {} is before --from {}; expected --from <= --to",
+            args.to, args.from
+        )));
+    }
+    if b.jd_tt - a.jd_tt > MAX_SEARCH_DAYS {
+        return Err(CliError::input(format!(
+            "--to: the interval {} .. {} is longer than the maximum of 1000 years",
+            args.from, args.to
+        )));
+    }
+    for (flag, v, i) in [("--from", &args.from, &a), ("--to", &args.to, &b)] {
+        if !(MIN_SEARCH_JD..=MAX_SEARCH_JD).contains(&i.jd_tt) {
+            return Err(CliError::input(format!(
+                "{flag} {v} is outside the searchable years -4000 .. 8000"
+            )));
+        }
+    }
+    Ok((a, b))
+}
+
+fn utc_of(i: &Instant) -> String {
+    format_utc(&i.to_utc())
+}
+
+fn astro(e: AstroError) -> CliError {
+    CliError::input(e.to_string())
+}
+
+fn print(format: Format, doc: &Value, table: impl FnOnce() -> String) -> Result<(), CliError> {
+    let text = match format {
+        Format::Json => {
+            serde_json::to_string_pretty(doc).map_err(|e| CliError::other(e.to_string()))?
+        }
+        Format::Table => table(),
+    };
+    let mut out = std::io::stdout().lock();
+    writeln!(out, "{text}").map_err(|e| CliError::other(format!("writing stdout: {e}")))
+}
+
+fn precision(s: &str) -> Result<Tiered, CliError> {
+    let p: Precision = parse_precision(s).map_err(CliError::input)?;
+    Ok(Tiered(p))
+}
+
+/// `himmel phases`.
+pub fn run_phases(args: &PhasesArgs) -> Result<(), CliError> {
+    let eph = precision(&args.precision)?;
+    let (a, b) = interval(&args.interval)?;
+    let mut rows = Vec::new();
+    for ev in phases(eph, &a, &b).map_err(astro)? {
+        let ev = ev.map_err(astro)?;
+        rows.push(json!({"phase": ev.phase.name(), "utc": utc_of(&ev.instant)}));
+    }
+    let doc = Value::Array(rows);
+    print(args.format, &doc, || {
+        let mut s = format!("{:<14} {}\n", "phase", "utc");
+        for r in doc.as_array().into_iter().flatten() {
+            s += &format!(
+                "{:<14} {}\n",
+                r["phase"].as_str().unwrap_or(""),
+                r["utc"].as_str().unwrap_or("")
+            );
+        }
+        s.trim_end().to_string()
+    })
+}
+
+/// `himmel riseset`.
+pub fn run_riseset(args: &RiseSetArgs) -> Result<(), CliError> {
+    let eph = precision(&args.precision)?;
+    let body = Body::from_name(args.body.trim()).ok_or_else(|| {
+        CliError::input(format!(
+            "--body: unknown body '{}'; expected sun or moon (or a planet)",
+            args.body
+        ))
+    })?;
+    let (y, m, d) = parse_ymd("--date", &args.date).map_err(CliError::input)?;
+    UtcDateTime::new(y, m, d, 0, 0, 0.0).map_err(|e| {
+        CliError::input(format!(
+            "--date: '{}' is not a valid date ({e}); expected YYYY-MM-DD",
+            args.date
+        ))
+    })?;
+    let obs = observer(args.lat, args.lon, args.elevation)?;
+    let day = rise_set_transit(&eph, body, &obs, y, m, d).map_err(astro)?;
+    let events: Vec<Value> = day
+        .events()
+        .iter()
+        .map(|e| json!({"event": e.kind.name(), "utc": utc_of(&e.instant)}))
+        .collect();
+    let doc = json!({
+        "date": format!("{y:04}-{m:02}-{d:02}"),
+        "body": body.name(),
+        "state": day.state.name(),
+        "events": events,
+    });
+    print(args.format, &doc, || {
+        let mut s = format!(
+            "{} {} at {:.4}, {:.4}: {}\n",
+            doc["date"].as_str().unwrap_or(""),
+            body.name(),
+            obs.lat_deg(),
+            obs.lon_deg(),
+            day.state.name()
+        );
+        for e in day.events() {
+            s += &format!("  {:<8} {}\n", e.kind.name(), utc_of(&e.instant));
+        }
+        s.trim_end().to_string()
+    })
+}
+
+fn opt_utc(i: Option<Instant>) -> Value {
+    i.map_or(Value::Null, |i| Value::String(utc_of(&i)))
+}
+
+fn table_time(v: &Value) -> String {
+    v.as_str()
+        .and_then(|s| s.split_once('T'))
+        .and_then(|(_, clock)| clock.get(..8))
+        .map_or_else(|| "-".to_string(), str::to_string)
+}
+
+/// `himmel eclipses`.
+pub fn run_eclipses(args: &EclipsesArgs) -> Result<(), CliError> {
+    let eph = precision(&args.precision)?;
+    if args.local && args.kind == EclipseKindArg::Lunar {
+        return Err(CliError::input(
+            "--local applies to --kind solar only (lunar eclipses look the same from everywhere the Moon is up)",
+        ));
+    }
+    let (a, b) = interval(&args.interval)?;
+    match (args.kind, args.local) {
+        (EclipseKindArg::Lunar, _) => {
+            let mut rows = Vec::new();
+            let mut list = Vec::new();
+            for e in lunar_eclipses(eph, &a, &b).map_err(astro)? {
+                let e = e.map_err(astro)?;
+                rows.push(json!({
+                    "kind": "lunar",
+                    "type": e.kind.name(),
+                    "greatest_utc": utc_of(&e.greatest),
+                    "umbral_magnitude": e.umbral_magnitude,
+                    "penumbral_magnitude": e.penumbral_magnitude,
+                    "gamma": e.gamma,
+                }));
+                list.push(e);
+            }
+            let doc = Value::Array(rows);
+            print(args.format, &doc, || {
+                let mut s = format!(
+                    "{:<10} {:<24} {:>7} {:>7} {:>8}  {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}\n",
+                    "type",
+                    "greatest (UTC)",
+                    "umbral",
+                    "penumb",
+                    "gamma",
+                    "P1",
+                    "U1",
+                    "U2",
+                    "U3",
+                    "U4",
+                    "P4"
+                );
+                for e in &list {
+                    let t = |i: Option<Instant>| table_time(&opt_utc(i));
+                    s += &format!(
+                        "{:<10} {:<24} {:>7.4} {:>7.4} {:>8.4}  {:>8} {:>8} {:>8} {:>8} {:>8} {:>8}\n",
+                        e.kind.name(),
+                        utc_of(&e.greatest),
+                        e.umbral_magnitude,
+                        e.penumbral_magnitude,
+                        e.gamma,
+                        t(Some(e.p1)),
+                        t(e.u1),
+                        t(e.u2),
+                        t(e.u3),
+                        t(e.u4),
+                        t(Some(e.p4)),
+                    );
+                }
+                s.trim_end().to_string()
+            })
+        }
+        (EclipseKindArg::Solar, false) => {
+            let mut rows = Vec::new();
+            for e in solar_eclipses(eph, &a, &b).map_err(astro)? {
+                let e = e.map_err(astro)?;
+                rows.push(json!({
+                    "kind": "solar",
+                    "type": e.kind.name(),
+                    "greatest_utc": utc_of(&e.greatest),
+                    "gamma": e.gamma,
+                    "magnitude": e.magnitude,
+                }));
+            }
+            let doc = Value::Array(rows);
+            print(args.format, &doc, || {
+                let mut s = format!(
+                    "{:<8} {:<24} {:>8} {:>9}\n",
+                    "type", "greatest (UTC)", "gamma", "magnitude"
+                );
+                for r in doc.as_array().into_iter().flatten() {
+                    s += &format!(
+                        "{:<8} {:<24} {:>8.4} {:>9.4}\n",
+                        r["type"].as_str().unwrap_or(""),
+                        r["greatest_utc"].as_str().unwrap_or(""),
+                        r["gamma"].as_f64().unwrap_or(f64::NAN),
+                        r["magnitude"].as_f64().unwrap_or(f64::NAN),
+                    );
+                }
+                s.trim_end().to_string()
+            })
+        }
+        (EclipseKindArg::Solar, true) => {
+            let lat = args.lat.ok_or_else(|| {
+                CliError::input("--lat is required with --local (degrees in [-90, 90])")
+            })?;
+            let lon = args.lon.ok_or_else(|| {
+                CliError::input("--lon is required with --local (degrees east in [-180, 180])")
+            })?;
+            let obs = observer(lat, lon, args.elevation)?;
+            let mut rows = Vec::new();
+            for e in local_solar_eclipses(eph, &obs, &a, &b).map_err(astro)? {
+                let e = e.map_err(astro)?;
+                rows.push(json!({
+                    "c1_utc": utc_of(&e.c1),
+                    "c2_utc": opt_utc(e.c2),
+                    "max_utc": utc_of(&e.max),
+                    "c3_utc": opt_utc(e.c3),
+                    "c4_utc": utc_of(&e.c4),
+                    "max_magnitude": e.max_magnitude,
+                    "max_obscuration": e.max_obscuration,
+                    "type_local": e.kind.name(),
+                }));
+            }
+            let doc = Value::Array(rows);
+            print(args.format, &doc, || {
+                let mut s = format!(
+                    "{:<8} {:<24} {:>8} {:>8} {:>8} {:>8} {:>9} {:>11}\n",
+                    "type", "maximum (UTC)", "C1", "C2", "C3", "C4", "magnitude", "obscuration"
+                );
+                for r in doc.as_array().into_iter().flatten() {
+                    s += &format!(
+                        "{:<8} {:<24} {:>8} {:>8} {:>8} {:>8} {:>9.4} {:>11.4}\n",
+                        r["type_local"].as_str().unwrap_or(""),
+                        r["max_utc"].as_str().unwrap_or(""),
+                        table_time(&r["c1_utc"]),
+                        table_time(&r["c2_utc"]),
+                        table_time(&r["c3_utc"]),
+                        table_time(&r["c4_utc"]),
+                        r["max_magnitude"].as_f64().unwrap_or(f64::NAN),
+                        r["max_obscuration"].as_f64().unwrap_or(f64::NAN),
+                    );
+                }
+                s.trim_end().to_string()
+            })
+        }
+    }
+}

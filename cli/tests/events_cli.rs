@@ -1,0 +1,316 @@
+//! `himmel phases`, `himmel riseset`, `himmel eclipses`: the JSON shapes of
+//! spec/cli.md, exit code 2 with a one-line error naming the flag on bad
+//! input.
+
+use std::process::{Command, Output};
+
+fn himmel(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_himmel"))
+        .args(args)
+        .output()
+        .expect("run himmel")
+}
+
+fn json(out: &Output) -> serde_json::Value {
+    assert!(
+        out.status.success(),
+        "stderr: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).expect("valid JSON")
+}
+
+fn keys(v: &serde_json::Value) -> Vec<String> {
+    let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();
+    k.sort();
+    k
+}
+
+#[test]
+fn phases_json_shape() {
+    let v = json(&himmel(&[
+        "phases",
+        "--from",
+        "2024-01-01",
+        "--to",
+        "2024-02-01",
+        "--format",
+        "json",
+    ]));
+    let a = v.as_array().unwrap();
+    assert_eq!(a.len(), 4);
+    assert_eq!(keys(&a[0]), ["phase", "utc"]);
+    assert_eq!(a[0]["phase"], "last_quarter");
+    assert!(a[0]["utc"].as_str().unwrap().ends_with('Z'));
+    let names: Vec<_> = a.iter().map(|p| p["phase"].as_str().unwrap()).collect();
+    assert_eq!(names, ["last_quarter", "new", "first_quarter", "full"]);
+}
+
+#[test]
+fn riseset_json_shape_and_polar_state() {
+    let v = json(&himmel(&[
+        "riseset",
+        "--body",
+        "sun",
+        "--date",
+        "2024-06-21",
+        "--lat",
+        "-78",
+        "--lon",
+        "166.67",
+        "--format",
+        "json",
+    ]));
+    assert_eq!(keys(&v), ["body", "date", "events", "state"]);
+    assert_eq!(v["state"], "always_down");
+    assert_eq!(v["date"], "2024-06-21");
+    let v = json(&himmel(&[
+        "riseset",
+        "--body",
+        "moon",
+        "--date",
+        "2024-06-21",
+        "--lat",
+        "52.52",
+        "--lon",
+        "13.405",
+        "--format",
+        "json",
+    ]));
+    assert_eq!(v["state"], "normal");
+    let ev = v["events"].as_array().unwrap();
+    assert!(!ev.is_empty());
+    assert_eq!(keys(&ev[0]), ["event", "utc"]);
+    // The separated negative form works.
+    let out = himmel(&[
+        "riseset",
+        "--body",
+        "sun",
+        "--date",
+        "2024-01-01",
+        "--lat",
+        "-33.9",
+        "--lon",
+        "-70.5",
+    ]);
+    assert!(out.status.success());
+}
+
+#[test]
+fn eclipses_json_shapes() {
+    let v = json(&himmel(&[
+        "eclipses",
+        "--kind",
+        "lunar",
+        "--from",
+        "2025-01-01",
+        "--to",
+        "2026-01-01",
+        "--format",
+        "json",
+    ]));
+    let a = v.as_array().unwrap();
+    assert_eq!(a.len(), 2);
+    assert_eq!(
+        keys(&a[0]),
+        [
+            "gamma",
+            "greatest_utc",
+            "kind",
+            "penumbral_magnitude",
+            "type",
+            "umbral_magnitude"
+        ]
+    );
+    assert_eq!(a[0]["kind"], "lunar");
+    assert_eq!(a[0]["type"], "total");
+    let v = json(&himmel(&[
+        "eclipses",
+        "--kind",
+        "solar",
+        "--from",
+        "2024-01-01",
+        "--to",
+        "2025-01-01",
+        "--format",
+        "json",
+    ]));
+    let a = v.as_array().unwrap();
+    assert_eq!(a.len(), 2);
+    assert_eq!(
+        keys(&a[0]),
+        ["gamma", "greatest_utc", "kind", "magnitude", "type"]
+    );
+    assert_eq!(a[0]["type"], "total");
+    assert_eq!(a[1]["type"], "annular");
+    let v = json(&himmel(&[
+        "eclipses",
+        "--kind",
+        "solar",
+        "--local",
+        "--lat",
+        "32.7767",
+        "--lon",
+        "-96.797",
+        "--from",
+        "2024-01-01",
+        "--to",
+        "2025-01-01",
+        "--format",
+        "json",
+    ]));
+    let a = v.as_array().unwrap();
+    assert_eq!(a.len(), 1);
+    assert_eq!(
+        keys(&a[0]),
+        [
+            "c1_utc",
+            "c2_utc",
+            "c3_utc",
+            "c4_utc",
+            "max_magnitude",
+            "max_obscuration",
+            "max_utc",
+            "type_local"
+        ]
+    );
+    assert_eq!(a[0]["type_local"], "total");
+    // New York 2024: partial, c2/c3 null.
+    let v = json(&himmel(&[
+        "eclipses",
+        "--kind",
+        "solar",
+        "--local",
+        "--lat",
+        "40.71",
+        "--lon",
+        "-74.01",
+        "--from",
+        "2024-04-01",
+        "--to",
+        "2024-05-01",
+        "--format",
+        "json",
+    ]));
+    assert_eq!(v[0]["type_local"], "partial");
+    assert!(v[0]["c2_utc"].is_null() && v[0]["c3_utc"].is_null());
+}
+
+#[test]
+fn bad_input_exits_2_with_one_line_naming_the_flag() {
+    let cases: &[(&[&str], &str)] = &[
+        (
+            &["phases", "--from", "2024-02-01", "--to", "2024-01-01"],
+            "--to",
+        ),
+        // A 20 000-year interval.
+        (
+            &[
+                "eclipses",
+                "--kind",
+                "lunar",
+                "--from=-9000-01-01T00:00:00Z",
+                "--to=+11000-01-01T00:00:00Z",
+            ],
+            "1000 years",
+        ),
+        (
+            &["phases", "--from", "2023-02-30", "--to", "2024-01-01"],
+            "--from",
+        ),
+        (
+            &["phases", "--from", "yesterday", "--to", "2024-01-01"],
+            "--from",
+        ),
+        (
+            &[
+                "riseset",
+                "--body",
+                "moon",
+                "--date",
+                "2024-13-01",
+                "--lat",
+                "0",
+                "--lon",
+                "0",
+            ],
+            "--date",
+        ),
+        (
+            &[
+                "riseset",
+                "--body",
+                "sun",
+                "--date",
+                "2024-02-30",
+                "--lat",
+                "0",
+                "--lon",
+                "0",
+            ],
+            "--date",
+        ),
+        (
+            &[
+                "riseset",
+                "--body",
+                "pluto",
+                "--date",
+                "2024-01-01",
+                "--lat",
+                "0",
+                "--lon",
+                "0",
+            ],
+            "--body",
+        ),
+        (
+            &[
+                "riseset",
+                "--body",
+                "sun",
+                "--date",
+                "2024-01-01",
+                "--lat",
+                "91",
+                "--lon",
+                "0",
+            ],
+            "--lat",
+        ),
+        (
+            &[
+                "eclipses",
+                "--kind",
+                "solar",
+                "--local",
+                "--from",
+                "2024-01-01",
+                "--to",
+                "2025-01-01",
+            ],
+            "--lat",
+        ),
+        (
+            &[
+                "eclipses",
+                "--kind",
+                "comet",
+                "--from",
+                "2024-01-01",
+                "--to",
+                "2025-01-01",
+            ],
+            "--kind",
+        ),
+    ];
+    for (args, needle) in cases {
+        let out = himmel(args);
+        assert_eq!(out.status.code(), Some(2), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.starts_with("error:"), "{args:?}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+        assert!(out.stdout.is_empty());
+    }
+}
