@@ -5,6 +5,7 @@
 //! 3 resource unavailable, 1 other failure. Errors are one line on stderr.
 
 mod ephemeris_cmd;
+mod render_cmd;
 mod timearg;
 
 use std::process::ExitCode;
@@ -62,6 +63,11 @@ enum Command {
     /// Apparent positions of the Sun, Moon and planets for an observer.
     #[command(allow_negative_numbers = true)]
     Ephemeris(ephemeris_cmd::EphemerisArgs),
+    /// Render the sky in absolute units to a PNG (camera model) or EXR (cd/m²).
+    #[command(allow_negative_numbers = true)]
+    Render(render_cmd::RenderArgs),
+    /// Print a complete default scene (JSON) for `render --scene`.
+    SceneTemplate,
 }
 
 fn main() -> ExitCode {
@@ -99,6 +105,8 @@ fn main() -> ExitCode {
     };
     let result = match cli.command {
         Command::Ephemeris(args) => ephemeris_cmd::run(&args),
+        Command::Render(args) => render_cmd::run(&args),
+        Command::SceneTemplate => render_cmd::template(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
