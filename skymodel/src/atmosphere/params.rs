@@ -5,10 +5,15 @@
 //! "precomputed_atmospheric_scattering" demo) and Hillaire (2020, "A
 //! scalable and production ready sky and atmosphere rendering technique",
 //! table 1): Rayleigh scattering 5.802 / 13.558 / 33.1 ×10⁻⁶ m⁻¹ at
-//! 680 / 550 / 440 nm with an 8 km scale height; aerosols with scattering
-//! 3.996 ×10⁻⁶ m⁻¹, single-scattering albedo 0.9, 1.2 km scale height and a
-//! Cornette–Shanks phase function with g = 0.8; 300 Dobson units of ozone
-//! in a tent profile 10–40 km peaking at 25 km.
+//! 680 / 550 / 440 nm with an 8 km scale height; 300 Dobson units of ozone
+//! in a tent profile 10–40 km peaking at 25 km; aerosols with
+//! single-scattering albedo 0.9, 1.2 km scale height and a Cornette–Shanks
+//! phase function with g = 0.8. The aerosol *amount* departs from those
+//! demos (whose 3.996 ×10⁻⁶ m⁻¹ is an aerosol optical depth of only 0.005):
+//! the default is 7.992 ×10⁻⁵ m⁻¹ at 550 nm, an aerosol optical depth of
+//! 0.107, with Ångström exponent 1.3 (Ångström 1929) — a clear continental
+//! sky, which is what the CIE "clear, low turbidity" sky (type 12) and
+//! measured clear-sky zenith luminances describe.
 
 use serde::{Deserialize, Serialize};
 
@@ -25,13 +30,13 @@ pub struct AtmosphereParams {
     pub rayleigh_k: f64,
     /// Rayleigh (air) density scale height, km (default 8).
     pub rayleigh_scale_height_km: f64,
-    /// Aerosol scattering coefficient at sea level and 550 nm, m⁻¹ (default 3.996e-6).
+    /// Aerosol scattering coefficient at sea level and 550 nm, m⁻¹ (default 7.992e-5).
     pub aerosol_scattering: f64,
     /// Multiplier on the aerosol density (1 = default; 0 = pure Rayleigh).
     pub aerosol_density: f64,
     /// Aerosol single-scattering albedo (default 0.9).
     pub aerosol_albedo: f64,
-    /// Aerosol Ångström exponent α: β_M(λ) ∝ (λ / 550 nm)^(−α) (default 0).
+    /// Aerosol Ångström exponent α: β_M(λ) ∝ (λ / 550 nm)^(−α) (default 1.3).
     pub aerosol_angstrom: f64,
     /// Aerosol density scale height, km (default 1.2).
     pub aerosol_scale_height_km: f64,
@@ -54,10 +59,10 @@ impl Default for AtmosphereParams {
             thickness_km: 100.0,
             rayleigh_k: 1.240_62e-6,
             rayleigh_scale_height_km: 8.0,
-            aerosol_scattering: 3.996e-6,
+            aerosol_scattering: 7.992e-5,
             aerosol_density: 1.0,
             aerosol_albedo: 0.9,
-            aerosol_angstrom: 0.0,
+            aerosol_angstrom: 1.3,
             aerosol_scale_height_km: 1.2,
             aerosol_g: 0.8,
             ozone_du: 300.0,

@@ -37,6 +37,9 @@ pub struct ReferenceConfig {
     pub segment_steps: usize,
     /// Random seed.
     pub seed: u64,
+    /// Lowest order the Monte-Carlo part counts (2 normally; 1 checks the
+    /// path tracer against the deterministic single scattering).
+    pub mc_min_order: usize,
 }
 
 impl Default for ReferenceConfig {
@@ -48,6 +51,7 @@ impl Default for ReferenceConfig {
             max_orders: 40,
             segment_steps: 96,
             seed: 0x5eed,
+            mc_min_order: 2,
         }
     }
 }
@@ -245,7 +249,7 @@ pub fn higher_orders(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &Reference
                 let n = pg.normalize();
                 let tv = optical_depth(m, *seg.cols.last().unwrap()).exp_neg();
                 beta = beta * tv * (1.0 / p_ground);
-                if order >= 2 {
+                if order >= cfg.mc_min_order {
                     let tsun = sun_transmittance_marched(m, pg, sun, cfg.sun_steps);
                     sum += beta * tsun * (n.dot(sun).max(0.0) * m.albedo / std::f32::consts::PI);
                 }
@@ -287,7 +291,7 @@ pub fn higher_orders(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &Reference
                 }
                 beta = beta * tv * sig * (w / psel);
                 let cos_sun = d.dot(sun);
-                if order >= 2 {
+                if order >= cfg.mc_min_order {
                     let ph = if rayleigh {
                         rayleigh_phase(cos_sun)
                     } else {
