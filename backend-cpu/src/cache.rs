@@ -5,21 +5,26 @@
 //! File name: `atmosphere-<key>.bin`, where the key is the FNV-1a 64-bit
 //! hash of the format version, the band count and the JSON of the
 //! parameters and LUT configuration. Content: a magic line, then the
-//! transmittance and multiple-scattering texels as little-endian f32.
+//! direct and δ-scaled transmittance and the multiple-scattering texels as
+//! little-endian f32.
 //! A file that does not match exactly is ignored (recomputed).
 
 use std::path::{Path, PathBuf};
 
-use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, Lut2, LutConfig, Medium};
+use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, Lut2, LutConfig};
 use himmel_skymodel::spectrum::{Spectrum, BANDS};
 
-const MAGIC: &[u8; 8] = b"HMLUT002";
+const MAGIC: &[u8; 8] = b"HMLUT003";
 
 /// The default cache directory (see the module documentation), or `None`
 /// when disabled or no home directory is known.
 pub fn default_dir() -> Option<PathBuf> {
     if let Some(v) = std::env::var_os("HIMMEL_CACHE_DIR") {
-        return if v.is_empty() { None } else { Some(PathBuf::from(v)) };
+        return if v.is_empty() {
+            None
+        } else {
+            Some(PathBuf::from(v))
+        };
     }
     if let Some(v) = std::env::var_os("XDG_CACHE_HOME").filter(|v| !v.is_empty()) {
         return Some(PathBuf::from(v).join("himmel"));
@@ -59,10 +64,16 @@ fn path(dir: &Path, params: &AtmosphereParams, config: &LutConfig) -> PathBuf {
 pub fn store(dir: &Path, luts: &AtmosphereLuts) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
     let mut out = Vec::with_capacity(
-        16 + (luts.transmittance.data.len() + luts.multiscatter.data.len()) * BANDS * 4,
+        16 + (2 * luts.transmittance.data.len() + luts.multiscatter.data.len()) * BANDS * 4,
     );
     out.extend_from_slice(MAGIC);
-    for s in luts.transmittance.data.iter().chain(&luts.multiscatter.data) {
+    for s in luts
+        .transmittance
+        .data
+        .iter()
+        .chain(&luts.scattering_transmittance.data)
+        .chain(&luts.multiscatter.data)
+    {
         for v in s.0 {
             out.extend_from_slice(&v.to_le_bytes());
         }
@@ -78,7 +89,7 @@ pub fn load(dir: &Path, params: &AtmosphereParams, config: &LutConfig) -> Option
     let bytes = std::fs::read(path(dir, params, config)).ok()?;
     let nt = config.transmittance_w * config.transmittance_h;
     let nm = config.multiscatter_n * config.multiscatter_n;
-    if bytes.len() != 8 + (nt + nm) * BANDS * 4 || &bytes[..8] != MAGIC {
+    if bytes.len() != 8 + (2 * nt + nm) * BANDS * 4 || &bytes[..8] != MAGIC {
         return None;
     }
     let mut spectra = bytes[8..].chunks_exact(BANDS * 4).map(|c| {
@@ -89,23 +100,26 @@ pub fn load(dir: &Path, params: &AtmosphereParams, config: &LutConfig) -> Option
         s
     });
     let t: Vec<Spectrum> = spectra.by_ref().take(nt).collect();
+    let ts: Vec<Spectrum> = spectra.by_ref().take(nt).collect();
     let m: Vec<Spectrum> = spectra.collect();
-    if t.iter().chain(&m).any(|s| !s.is_finite()) {
+    if t.iter().chain(&ts).chain(&m).any(|s| !s.is_finite()) {
         return None;
     }
-    Some(AtmosphereLuts {
-        params: params.clone(),
-        config: *config,
-        medium: Medium::new(params),
-        transmittance: Lut2 {
+    Some(AtmosphereLuts::from_parts(
+        params,
+        config,
+        Lut2 {
             w: config.transmittance_w,
             h: config.transmittance_h,
             data: t,
         },
-        multiscatter: Lut2 {
-            w: config.multiscatter_n,
-            h: config.multiscatter_n,
-            data: m,
+        Lut2 {
+            w: config.transmittance_w,
+            h: config.transmittance_h,
+            data: ts,
         },
-    })
+        m.chunks(config.multiscatter_n.max(1))
+            .map(<[Spectrum]>::to_vec)
+            .collect(),
+    ))
 }

@@ -14,7 +14,9 @@ use std::path::PathBuf;
 use std::time::Instant as Clock;
 
 use glam::Vec3;
-use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, LutConfig, SkyView, SkyViewInput};
+use himmel_skymodel::atmosphere::{
+    AtmosphereLuts, AtmosphereParams, LutConfig, SkyView, SkyViewInput,
+};
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
 use himmel_skymodel::spectrum::Spectrum;
 use himmel_skymodel::sun::SunDisk;
@@ -25,7 +27,9 @@ use rayon::prelude::*;
 /// bar on stderr when `progress` is set and stderr is a terminal.
 pub fn precompute(params: &AtmosphereParams, config: &LutConfig, progress: bool) -> AtmosphereLuts {
     let medium = himmel_skymodel::atmosphere::Medium::new(params);
-    let t = AtmosphereLuts::transmittance_lut(&medium, config);
+    let t = AtmosphereLuts::transmittance_lut(&medium, config, Spectrum::ZERO);
+    let fwd = himmel_skymodel::atmosphere::lut::forward_scattering(&medium, config);
+    let ts = AtmosphereLuts::transmittance_lut(&medium, config, fwd);
     let n = config.multiscatter_n;
     let bar = if progress {
         let b = indicatif::ProgressBar::new(n as u64);
@@ -37,7 +41,7 @@ pub fn precompute(params: &AtmosphereParams, config: &LutConfig, progress: bool)
     let rows: Vec<Vec<Spectrum>> = (0..n)
         .into_par_iter()
         .map(|j| {
-            let r = AtmosphereLuts::multiscatter_row(&medium, config, &t, j);
+            let r = AtmosphereLuts::multiscatter_row(&medium, config, &ts, j);
             if let Some(b) = &bar {
                 b.inc(1);
             }
@@ -47,7 +51,7 @@ pub fn precompute(params: &AtmosphereParams, config: &LutConfig, progress: bool)
     if let Some(b) = bar {
         b.finish_and_clear();
     }
-    AtmosphereLuts::from_parts(params, config, t, rows)
+    AtmosphereLuts::from_parts(params, config, t, ts, rows)
 }
 
 /// Computes the per-frame sky-view LUT on all cores.
@@ -85,7 +89,11 @@ impl CpuRenderer {
 
     /// The LUTs for `params`/`config`, from memory, disk or computation;
     /// returns them with their source.
-    pub fn luts(&mut self, params: &AtmosphereParams, config: &LutConfig) -> (&AtmosphereLuts, &'static str) {
+    pub fn luts(
+        &mut self,
+        params: &AtmosphereParams,
+        config: &LutConfig,
+    ) -> (&AtmosphereLuts, &'static str) {
         let fresh = match &self.luts {
             Some(l) => l.params != *params || l.config != *config,
             None => true,
@@ -172,14 +180,17 @@ impl SkyRenderer for CpuRenderer {
                         irradiance_scale: state.sun.irradiance_scale as f32,
                     };
                     let sv = sky_view(luts, &input);
-                    pixels.par_iter_mut().zip(dirs.par_iter()).for_each(|(p, d)| {
-                        if let Some(d) = d {
-                            let l = sv.radiance(*d, sun_dir);
-                            for k in 0..3 {
-                                p[k] += l[k];
+                    pixels
+                        .par_iter_mut()
+                        .zip(dirs.par_iter())
+                        .for_each(|(p, d)| {
+                            if let Some(d) = d {
+                                let l = sv.radiance(*d, sun_dir);
+                                for k in 0..3 {
+                                    p[k] += l[k];
+                                }
                             }
-                        }
-                    });
+                        });
                 }
                 Effect::Sun => {
                     let disk = SunDisk::new(
@@ -215,7 +226,9 @@ impl SkyRenderer for CpuRenderer {
                                 for si in 0..n {
                                     let sx = x + (si as f64 + 0.5) / n as f64;
                                     let sy = y + (sj as f64 + 0.5) / n as f64;
-                                    let Some(sd) = cam.pixel_to_dir(sx, sy) else { continue };
+                                    let Some(sd) = cam.pixel_to_dir(sx, sy) else {
+                                        continue;
+                                    };
                                     let sd = sd.as_vec3();
                                     // The ground hides the disk below the horizon.
                                     if sd.z < 0.0 || !disk.covers(sd) {

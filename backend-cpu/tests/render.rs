@@ -46,9 +46,15 @@ fn sun_disk_position_and_illuminance_in_equirect() {
     assert!((e / want - 1.0).abs() < 0.02, "{e} lx vs {want} lx");
     assert!((120_000.0..136_000.0).contains(&want));
     // Centroid within 1 px of the refracted apparent place.
-    let (sx, sy) = s.camera.dir_to_pixel(DVec3::from_array(state.sun.enu)).unwrap();
+    let (sx, sy) = s
+        .camera
+        .dir_to_pixel(DVec3::from_array(state.sun.enu))
+        .unwrap();
     let (cx, cy) = (cx / sw, cy / sw);
-    assert!((cx - sx).hypot(cy - sy) < 1.0, "centroid {cx},{cy} vs {sx},{sy}");
+    assert!(
+        (cx - sx).hypot(cy - sy) < 1.0,
+        "centroid {cx},{cy} vs {sx},{sy}"
+    );
     assert!(state.sun.alt_refracted_deg > state.sun.alt_deg);
 }
 
@@ -66,12 +72,21 @@ fn atmosphere_only_runs_one_pass_and_says_why_not_the_others() {
             assert_eq!(p.reason.as_deref(), Some("not requested"), "{}", p.name);
         }
     }
-    assert!(out.image.pixels.iter().all(|p| p.iter().all(|v| v.is_finite())));
+    assert!(out
+        .image
+        .pixels
+        .iter()
+        .all(|p| p.iter().all(|v| v.is_finite())));
 }
 
 #[test]
 fn later_effects_are_reported_not_available() {
-    let s = scene(vec![Effect::Moon, Effect::Stars], 16, 16, Projection::Fisheye);
+    let s = scene(
+        vec![Effect::Moon, Effect::Stars],
+        16,
+        16,
+        Projection::Fisheye,
+    );
     let state = SkyState::at(&s).unwrap();
     let out = CpuRenderer::new(None).render(&s, &state).unwrap();
     let moon = out.passes.iter().find(|p| p.name == "moon").unwrap();
@@ -80,13 +95,24 @@ fn later_effects_are_reported_not_available() {
 
 #[test]
 fn every_projection_renders_finite_pixels() {
-    for p in [Projection::Fisheye, Projection::Equirect, Projection::Perspective, Projection::Cubemap] {
+    for p in [
+        Projection::Fisheye,
+        Projection::Equirect,
+        Projection::Perspective,
+        Projection::Cubemap,
+    ] {
         let s = scene(vec![Effect::Atmosphere, Effect::Sun], 48, 32, p);
         let state = SkyState::at(&s).unwrap();
         let out = CpuRenderer::new(None).render(&s, &state).unwrap();
         let (w, h) = s.camera.image_size();
         assert_eq!(out.image.pixels.len(), (w * h) as usize);
-        assert!(out.image.pixels.iter().all(|p| p.iter().all(|v| v.is_finite())), "{p:?}");
+        assert!(
+            out.image
+                .pixels
+                .iter()
+                .all(|p| p.iter().all(|v| v.is_finite())),
+            "{p:?}"
+        );
     }
 }
 
@@ -99,6 +125,7 @@ fn cache_round_trip_and_key_changes_with_parameters() {
     cache::store(&dir, &luts).unwrap();
     let back = cache::load(&dir, &params, &cfg).unwrap();
     assert_eq!(back.transmittance, luts.transmittance);
+    assert_eq!(back.scattering_transmittance, luts.scattering_transmittance);
     assert_eq!(back.multiscatter, luts.multiscatter);
     let mut p2 = params.clone();
     p2.aerosol_density = 2.0;

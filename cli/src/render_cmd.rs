@@ -80,13 +80,17 @@ fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
     if v.is_finite() {
         Ok(v)
     } else {
-        Err(CliError::input(format!("{flag} {v} is not a finite number")))
+        Err(CliError::input(format!(
+            "{flag} {v} is not a finite number"
+        )))
     }
 }
 
 fn size(flag: &str, v: u64) -> Result<u32, CliError> {
     if v == 0 {
-        return Err(CliError::input(format!("{flag} 0: must be at least 1 pixel")));
+        return Err(CliError::input(format!(
+            "{flag} 0: must be at least 1 pixel"
+        )));
     }
     u32::try_from(v).map_err(|_| {
         CliError::input(format!(
@@ -122,9 +126,8 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
             let text = std::fs::read_to_string(p).map_err(|e| {
                 CliError::input(format!("--scene {}: cannot read ({e})", p.display()))
             })?;
-            Scene::from_json(&text).map_err(|e| {
-                CliError::input(format!("--scene {}: {}", p.display(), e.message))
-            })?
+            Scene::from_json(&text)
+                .map_err(|e| CliError::input(format!("--scene {}: {}", p.display(), e.message)))?
         }
         None => {
             let mut s = Scene::default();
@@ -137,7 +140,9 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
                 return Err(CliError::input("--lat is required (degrees in [-90, 90])"));
             }
             if a.lon.is_none() {
-                return Err(CliError::input("--lon is required (degrees east in [-180, 180])"));
+                return Err(CliError::input(
+                    "--lon is required (degrees east in [-180, 180])",
+                ));
             }
             s.time.utc = String::new();
             s
@@ -191,11 +196,14 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
         scene.camera.fov_deg = finite("--fov", v)?;
     }
     if let Some(list) = &a.effects {
-        scene.effects = parse_effects(list).map_err(|e| CliError::input(format!("--effects: {e}")))?;
+        scene.effects =
+            parse_effects(list).map_err(|e| CliError::input(format!("--effects: {e}")))?;
     }
     if let Some(e) = &a.exposure {
         scene.exposure = Exposure::parse(e).ok_or_else(|| {
-            CliError::input(format!("--exposure: '{e}' is neither auto nor an EV100 number in [-30, 40]"))
+            CliError::input(format!(
+                "--exposure: '{e}' is neither auto nor an EV100 number in [-30, 40]"
+            ))
         })?;
     }
     if let Some(v) = a.sun_scale {
@@ -205,7 +213,12 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
         scene.moon_scale = finite("--moon-scale", v)?;
     }
     scene.validate().map_err(|e| {
-        CliError::input(format!("{} ({}): {}", flag_of(&e.field), e.field, e.message))
+        CliError::input(format!(
+            "{} ({}): {}",
+            flag_of(&e.field),
+            e.field,
+            e.message
+        ))
     })?;
     Ok(scene)
 }
@@ -224,11 +237,15 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     })?;
     match a.backend.trim() {
         "cpu" => {}
-        "auto" => eprintln!("note: the wgpu backend is not built in this version; using --backend cpu"),
+        "auto" => {
+            eprintln!("note: the wgpu backend is not built in this version; using --backend cpu")
+        }
         "wgpu" => {
             return Err(CliError {
                 code: 3,
-                message: "--backend wgpu: no wgpu adapter available in this build; use --backend cpu".into(),
+                message:
+                    "--backend wgpu: no wgpu adapter available in this build; use --backend cpu"
+                        .into(),
             })
         }
         other => {
@@ -239,7 +256,12 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     }
     let scene = build_scene(a)?;
     let state = SkyState::at(&scene).map_err(|e| {
-        CliError::input(format!("{} ({}): {}", flag_of(&e.field), e.field, e.message))
+        CliError::input(format!(
+            "{} ({}): {}",
+            flag_of(&e.field),
+            e.field,
+            e.message
+        ))
     })?;
     let mut renderer = CpuRenderer::new(himmel_cpu::cache::default_dir());
     renderer.progress = true;
@@ -283,7 +305,8 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
                 "illuminance_lux": state.sun.illuminance_lux,
             },
         });
-        let text = serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
+        let text =
+            serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
         std::fs::write(path, text + "\n")
             .map_err(|e| CliError::other(format!("--stats {}: {e}", path.display())))?;
     }

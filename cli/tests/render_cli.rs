@@ -23,7 +23,14 @@ fn tmp(name: &str) -> String {
         .into_owned()
 }
 
-const BASE: [&str; 6] = ["--time", "2024-06-21T19:00:00Z", "--lat", "-33.9", "--lon", "-70.6"];
+const BASE: [&str; 6] = [
+    "--time",
+    "2024-06-21T19:00:00Z",
+    "--lat",
+    "-33.9",
+    "--lon",
+    "-70.6",
+];
 
 fn render(extra: &[&str]) -> (i32, String, String) {
     let mut a = vec!["render"];
@@ -49,7 +56,10 @@ fn bad_input_exits_2_naming_the_flag() {
         let (code, _, err) = render(&a);
         assert_eq!(code, 2, "{extra:?}: {err}");
         assert_eq!(err.trim().lines().count(), 1, "{err}");
-        assert!(err.starts_with("error:") && err.contains(needle), "{extra:?}: {err}");
+        assert!(
+            err.starts_with("error:") && err.contains(needle),
+            "{extra:?}: {err}"
+        );
     }
 }
 
@@ -82,11 +92,26 @@ fn template_is_a_complete_scene_and_renders_with_stats() {
     let png = tmp("t.png");
     let stats = tmp("t.json");
     let (code, _, err) = render(&[
-        "--scene", &f, "--effects", "atmosphere", "--projection", "perspective", "--yaw", "-10",
-        "--pitch", "5", "--exposure", "-4", "--stats", &stats, "--output", &png,
+        "--scene",
+        &f,
+        "--effects",
+        "atmosphere",
+        "--projection",
+        "perspective",
+        "--yaw",
+        "-10",
+        "--pitch",
+        "5",
+        "--exposure",
+        "-4",
+        "--stats",
+        &stats,
+        "--output",
+        &png,
     ]);
     assert_eq!(code, 0, "{err}");
-    let s: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
     assert_eq!(s["backend"], "cpu");
     assert_eq!(s["width"], 96);
     let passes = s["passes"].as_array().unwrap();

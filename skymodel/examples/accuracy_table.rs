@@ -16,21 +16,31 @@ use std::time::Instant;
 
 use glam::Vec3;
 use himmel_skymodel::atmosphere::reference::{self, ReferenceConfig};
-use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, LutConfig, SkyView, SkyViewInput};
+use himmel_skymodel::atmosphere::{
+    AtmosphereLuts, AtmosphereParams, LutConfig, SkyView, SkyViewInput,
+};
 use himmel_skymodel::spectrum::{luminance, BandWeights};
 
 fn main() {
     // AEROSOL scales the aerosol density (0.05 = the Bruneton/Hillaire demo
     // atmosphere, aerosol optical depth 0.005).
     let params = AtmosphereParams {
-        aerosol_density: std::env::var("AEROSOL").ok().and_then(|p| p.parse().ok()).unwrap_or(1.0),
+        aerosol_density: std::env::var("AEROSOL")
+            .ok()
+            .and_then(|p| p.parse().ok())
+            .unwrap_or(1.0),
         ..AtmosphereParams::default()
     };
     let w = BandWeights::solar();
-    let suns: Vec<f32> = std::env::var("SUNS").map(|s| s.split(",").map(|x| x.parse().unwrap()).collect()).unwrap_or(vec![60.0, 10.0, 0.0, -4.0, -8.0]);
+    let suns: Vec<f32> = std::env::var("SUNS")
+        .map(|s| s.split(",").map(|x| x.parse().unwrap()).collect())
+        .unwrap_or(vec![60.0, 10.0, 0.0, -4.0, -8.0]);
     let elevations = [2.0f32, 8.0, 20.0, 40.0, 60.0, 85.0];
     let rc = ReferenceConfig {
-        paths: std::env::var("PATHS").ok().and_then(|p| p.parse().ok()).unwrap_or(3000),
+        paths: std::env::var("PATHS")
+            .ok()
+            .and_then(|p| p.parse().ok())
+            .unwrap_or(3000),
         ..Default::default()
     };
     let medium = himmel_skymodel::atmosphere::Medium::new(&params);
@@ -45,17 +55,36 @@ fn main() {
                 let az = (k as f32 * 22.5 + 5.0).to_radians();
                 let er = e.to_radians();
                 let d = Vec3::new(er.cos() * az.cos(), er.cos() * az.sin(), er.sin());
-                v.push((d, w.to_y(&reference::radiance(&medium, medium.bottom, d, sun, &rc))));
+                v.push((
+                    d,
+                    w.to_y(&reference::radiance(&medium, medium.bottom, d, sun, &rc)),
+                ));
             }
         }
         refs.push(v);
     }
     eprintln!("reference: {:.1} s", t.elapsed().as_secs_f64());
-    let configs: Vec<(&str, LutConfig)> = vec![
-        ("single scattering (orders 1)", LutConfig { orders: 1, ..LutConfig::default() }),
-        ("orders 2", LutConfig { orders: 2, ..LutConfig::default() }),
+    let fwd: Option<f32> = std::env::var("FWD").ok().and_then(|p| p.parse().ok());
+    let mut configs: Vec<(&str, LutConfig)> = vec![
+        (
+            "single scattering (orders 1)",
+            LutConfig {
+                orders: 1,
+                ..LutConfig::default()
+            },
+        ),
+        (
+            "orders 2",
+            LutConfig {
+                orders: 2,
+                ..LutConfig::default()
+            },
+        ),
         ("small (16² MS, 36 dirs, 96×64 view)", LutConfig::small()),
-        ("default (32² MS, 64 dirs, 192×128 view)", LutConfig::default()),
+        (
+            "default (32² MS, 64 dirs, 192×128 view)",
+            LutConfig::default(),
+        ),
         (
             "large (64² MS, 256 dirs, 256×192 view)",
             LutConfig {
@@ -69,6 +98,11 @@ fn main() {
             },
         ),
     ];
+    if let Some(f) = fwd {
+        for c in configs.iter_mut() {
+            c.1.forward_peak_deg = f;
+        }
+    }
     println!("| LUT configuration | precompute (ms, 1 thread) | sky view per frame (ms, 1 thread) | {} |",
         suns.iter().map(|s| format!("Sun {s:+}°: median / p95")).collect::<Vec<_>>().join(" | "));
     println!("|---|---|---|{}", "---|".repeat(suns.len()));
@@ -87,7 +121,11 @@ fn main() {
             let t1 = Instant::now();
             let sv = SkyView::compute(&luts, &input);
             frame += t1.elapsed().as_secs_f64() * 1e3 / suns.len() as f64;
-            let sun_enu = Vec3::new(0.0, SkyView::sun_local(input.sun_sin_elevation).x, input.sun_sin_elevation);
+            let sun_enu = Vec3::new(
+                0.0,
+                SkyView::sun_local(input.sun_sin_elevation).x,
+                input.sun_sin_elevation,
+            );
             let mut errs: Vec<f32> = refs[i]
                 .iter()
                 .map(|(d, r)| {
@@ -95,7 +133,12 @@ fn main() {
                     let enu = Vec3::new(d.y, d.x, d.z);
                     let l = luminance(sv.radiance(enu, sun_enu));
                     if std::env::var("VERBOSE").is_ok() {
-                        eprintln!("{name} sun {s} e {:.0} az {:.0}: {:+.1} %", d.z.asin().to_degrees(), d.y.atan2(d.x).to_degrees(), (l / r - 1.0) * 100.0);
+                        eprintln!(
+                            "{name} sun {s} e {:.0} az {:.0}: {:+.1} %",
+                            d.z.asin().to_degrees(),
+                            d.y.atan2(d.x).to_degrees(),
+                            (l / r - 1.0) * 100.0
+                        );
                     }
                     (l / r - 1.0).abs()
                 })

@@ -104,7 +104,9 @@ pub fn meter_ev100(pixels: &[[f32; 3]], valid: &[bool]) -> f64 {
         }
     }
     let mean = if n > 0 { (sum / n as f64).exp() } else { 1e-9 };
-    (mean * 100.0 / 12.5).log2().clamp(AUTO_EV_RANGE.0, AUTO_EV_RANGE.1)
+    (mean * 100.0 / 12.5)
+        .log2()
+        .clamp(AUTO_EV_RANGE.0, AUTO_EV_RANGE.1)
 }
 
 /// Scotopic luminance of linear sRGB (Larson et al. 1997, eq. 2).
@@ -197,7 +199,11 @@ pub fn develop(
             continue;
         }
         let (x, y) = (i % width.max(1), i / width.max(1));
-        let rgb = if settings.night_vision { night_vision(*p) } else { *p };
+        let rgb = if settings.night_vision {
+            night_vision(*p)
+        } else {
+            *p
+        };
         let d = if settings.dither {
             (BAYER8[y & 7][x & 7] as f32 + 0.5) / 64.0
         } else {
@@ -221,8 +227,14 @@ mod tests {
         assert_eq!(Exposure::parse("-4"), Some(Exposure::Ev100(-4.0)));
         assert_eq!(Exposure::parse("x"), None);
         let j = serde_json::to_string(&Exposure::Ev100(12.5)).unwrap();
-        assert_eq!(serde_json::from_str::<Exposure>(&j).unwrap(), Exposure::Ev100(12.5));
-        assert_eq!(serde_json::from_str::<Exposure>("\"auto\"").unwrap(), Exposure::Auto);
+        assert_eq!(
+            serde_json::from_str::<Exposure>(&j).unwrap(),
+            Exposure::Ev100(12.5)
+        );
+        assert_eq!(
+            serde_json::from_str::<Exposure>("\"auto\"").unwrap(),
+            Exposure::Auto
+        );
         assert!(serde_json::from_str::<Exposure>("\"bright\"").is_err());
         assert!(serde_json::from_str::<Exposure>("true").is_err());
     }

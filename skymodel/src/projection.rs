@@ -172,7 +172,10 @@ impl Camera {
             Projection::Equirect => {
                 let az = std::f64::consts::TAU * px / w;
                 let alt = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * py / h;
-                Some(enu_from_alt_az(alt.clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2), az))
+                Some(enu_from_alt_az(
+                    alt.clamp(-std::f64::consts::FRAC_PI_2, std::f64::consts::FRAC_PI_2),
+                    az,
+                ))
             }
             Projection::Perspective => {
                 let (f, right, up) = self.perspective_basis();
@@ -251,10 +254,7 @@ impl Camera {
                 } else {
                     (5, -v.x / a.z, -v.y / a.z)
                 };
-                Some((
-                    face as f64 * h + (sc + 1.0) / 2.0 * h,
-                    (tc + 1.0) / 2.0 * h,
-                ))
+                Some((face as f64 * h + (sc + 1.0) / 2.0 * h, (tc + 1.0) / 2.0 * h))
             }
         }
     }
@@ -341,7 +341,10 @@ mod tests {
         c.yaw_deg = 0.0;
         c.pitch_deg = 0.0;
         let right = c.pixel_to_dir(299.9, 100.0).unwrap();
-        assert!(right.x > 0.5, "looking North, East is on the right: {right}");
+        assert!(
+            right.x > 0.5,
+            "looking North, East is on the right: {right}"
+        );
     }
 
     #[test]
@@ -357,7 +360,10 @@ mod tests {
         ];
         for (f, want) in centres.iter().enumerate() {
             let d = c.pixel_to_dir(f as f64 * 64.0 + 32.0, 32.0).unwrap();
-            assert!((scene_from_enu(d) - *want).length() < 1e-12, "face {f}: {d}");
+            assert!(
+                (scene_from_enu(d) - *want).length() < 1e-12,
+                "face {f}: {d}"
+            );
         }
         // +Y (Up) is the zenith; +Z is South.
         assert!((c.pixel_to_dir(2.0 * 64.0 + 32.0, 32.0).unwrap().z - 1.0).abs() < 1e-12);
@@ -378,7 +384,9 @@ mod tests {
             for j in 0..h {
                 for i in 0..w {
                     let (px, py) = (i as f64 + 0.5, j as f64 + 0.5);
-                    let Some(d) = c.pixel_to_dir(px, py) else { continue };
+                    let Some(d) = c.pixel_to_dir(px, py) else {
+                        continue;
+                    };
                     assert!((d.length() - 1.0).abs() < 1e-9);
                     let (qx, qy) = c.dir_to_pixel(d).expect("visible");
                     let back = c.pixel_to_dir(qx, qy).unwrap();
@@ -386,7 +394,10 @@ mod tests {
                     // The pixel itself round-trips (except at the equirect poles and the fisheye nadir ring).
                     if p != Projection::Equirect || (j > 0 && j + 1 < h) {
                         if p != Projection::Fisheye || d.z > -0.99 {
-                            assert!((qx - px).abs() < 1e-6 && (qy - py).abs() < 1e-6, "{p:?} {i},{j}: {qx},{qy}");
+                            assert!(
+                                (qx - px).abs() < 1e-6 && (qy - py).abs() < 1e-6,
+                                "{p:?} {i},{j}: {qx},{qy}"
+                            );
                         }
                     }
                     n += 1;

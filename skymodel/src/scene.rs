@@ -219,19 +219,34 @@ impl Scene {
     pub fn validate(&self) -> Result<(), SceneError> {
         let o = &self.observer;
         if !(o.lat_deg.is_finite() && (-90.0..=90.0).contains(&o.lat_deg)) {
-            return Err(SceneError::new("observer.lat_deg", format!("{} is outside [-90, 90]", o.lat_deg)));
+            return Err(SceneError::new(
+                "observer.lat_deg",
+                format!("{} is outside [-90, 90]", o.lat_deg),
+            ));
         }
         if !(o.lon_deg.is_finite() && (-360.0..=360.0).contains(&o.lon_deg)) {
-            return Err(SceneError::new("observer.lon_deg", format!("{} is outside [-180, 180]", o.lon_deg)));
+            return Err(SceneError::new(
+                "observer.lon_deg",
+                format!("{} is outside [-180, 180]", o.lon_deg),
+            ));
         }
         if !(o.elevation_m.is_finite() && (-12_000.0..=100_000.0).contains(&o.elevation_m)) {
-            return Err(SceneError::new("observer.elevation_m", format!("{} is outside [-12000, 100000] m", o.elevation_m)));
+            return Err(SceneError::new(
+                "observer.elevation_m",
+                format!("{} is outside [-12000, 100000] m", o.elevation_m),
+            ));
         }
         if !self.time.speed.is_finite() {
             return Err(SceneError::new("time.speed", "must be a finite number"));
         }
         if himmel_astro::Precision::from_name(&self.precision).is_none() {
-            return Err(SceneError::new("precision", format!("unknown tier '{}'; expected low, standard or high", self.precision)));
+            return Err(SceneError::new(
+                "precision",
+                format!(
+                    "unknown tier '{}'; expected low, standard or high",
+                    self.precision
+                ),
+            ));
         }
         self.camera
             .validate()
@@ -257,9 +272,15 @@ impl Scene {
             }
         }
         if l.orders > 1000 {
-            return Err(SceneError::new("lut.orders", "expected 0 (all orders) or 1..1000"));
+            return Err(SceneError::new(
+                "lut.orders",
+                "expected 0 (all orders) or 1..1000",
+            ));
         }
-        for (f, v) in [("sun_scale", self.sun_scale), ("moon_scale", self.moon_scale)] {
+        for (f, v) in [
+            ("sun_scale", self.sun_scale),
+            ("moon_scale", self.moon_scale),
+        ] {
             if !(v.is_finite() && (0.01..=100.0).contains(&v)) {
                 return Err(SceneError::new(f, format!("{v} is outside [0.01, 100]")));
             }
@@ -302,8 +323,13 @@ mod tests {
 
     #[test]
     fn effects_parse() {
-        assert_eq!(parse_effects("sun, atmosphere,sun").unwrap(), vec![Effect::Sun, Effect::Atmosphere]);
-        assert!(parse_effects("sun,rainbow").unwrap_err().contains("rainbow"));
+        assert_eq!(
+            parse_effects("sun, atmosphere,sun").unwrap(),
+            vec![Effect::Sun, Effect::Atmosphere]
+        );
+        assert!(parse_effects("sun,rainbow")
+            .unwrap_err()
+            .contains("rainbow"));
     }
 
     #[test]

@@ -206,6 +206,27 @@ pub fn luminance(rgb: [f32; 3]) -> f32 {
     0.2126 * rgb[0] + 0.7152 * rgb[1] + 0.0722 * rgb[2]
 }
 
+/// Brings an out-of-gamut linear sRGB colour (a negative component, e.g.
+/// the saturated orange of the horizon at sunset) into the gamut by
+/// desaturating it towards the grey of the same luminance; Y is kept.
+#[inline]
+pub fn clip_to_gamut(rgb: [f32; 3]) -> [f32; 3] {
+    let min = rgb[0].min(rgb[1]).min(rgb[2]);
+    if min >= 0.0 {
+        return rgb;
+    }
+    let y = luminance(rgb);
+    if y <= 0.0 {
+        return [0.0; 3];
+    }
+    let t = y / (y - min);
+    [
+        (y + t * (rgb[0] - y)).max(0.0),
+        (y + t * (rgb[1] - y)).max(0.0),
+        (y + t * (rgb[2] - y)).max(0.0),
+    ]
+}
+
 /// Photometric weights of the bands: for each band, the linear sRGB
 /// (cd/m² per sr⁻¹ of transfer factor, i.e. lux) that a band transfer
 /// factor of 1 produces under the 1 AU solar spectrum.
@@ -310,6 +331,16 @@ mod tests {
         let s = xyz[0] + xyz[1] + xyz[2];
         assert!((xyz[0] / s - 1.0 / 3.0).abs() < 0.01);
         assert!((xyz[1] / s - 1.0 / 3.0).abs() < 0.01);
+    }
+
+    #[test]
+    fn gamut_clip_keeps_luminance() {
+        let c = [3.0f32, 1.0, -0.4];
+        let g = clip_to_gamut(c);
+        assert!(g.iter().all(|&v| v >= 0.0));
+        assert!((luminance(g) - luminance(c)).abs() < 1e-5);
+        assert!(g[0] > g[1] && g[1] >= g[2]);
+        assert_eq!(clip_to_gamut([0.1, 0.2, 0.3]), [0.1, 0.2, 0.3]);
     }
 
     #[test]

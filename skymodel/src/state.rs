@@ -81,8 +81,15 @@ pub fn parse_utc(s: &str) -> Result<UtcDateTime, SceneError> {
             .with_timezone(&chrono::Utc)
     };
     let sec = t.second() as f64 + t.nanosecond() as f64 * 1e-9;
-    UtcDateTime::new(t.year(), t.month() as u8, t.day() as u8, t.hour() as u8, t.minute() as u8, sec)
-        .map_err(|e| err(e.to_string()))
+    UtcDateTime::new(
+        t.year(),
+        t.month() as u8,
+        t.day() as u8,
+        t.hour() as u8,
+        t.minute() as u8,
+        sec,
+    )
+    .map_err(|e| err(e.to_string()))
 }
 
 impl SkyState {
@@ -97,19 +104,22 @@ impl SkyState {
         scene.validate()?;
         let precision = Precision::from_name(&scene.precision).unwrap_or(Precision::Standard);
         let o = &scene.observer;
-        let observer = Observer::new(o.lat_deg, o.lon_deg, o.elevation_m).map_err(|e| SceneError {
-            field: "observer".into(),
-            message: e.to_string(),
-        })?;
+        let observer =
+            Observer::new(o.lat_deg, o.lon_deg, o.elevation_m).map_err(|e| SceneError {
+                field: "observer".into(),
+                message: e.to_string(),
+            })?;
         let instant = Instant::from_utc(&utc).map_err(|e| SceneError {
             field: "time.utc".into(),
             message: e.to_string(),
         })?;
         let sky = Sky::new(precision, &instant);
-        let topo = sky.topocentric(Body::Sun, &observer).map_err(|e| SceneError {
-            field: "time.utc".into(),
-            message: e.to_string(),
-        })?;
+        let topo = sky
+            .topocentric(Body::Sun, &observer)
+            .map_err(|e| SceneError {
+                field: "time.utc".into(),
+                message: e.to_string(),
+            })?;
         let alt_r = topo.alt_refracted_deg();
         let enu = enu_from_alt_az(alt_r.to_radians(), topo.az);
         let irradiance_scale = (KM_PER_AU / topo.distance_km).powi(2);
@@ -127,7 +137,8 @@ impl SkyState {
         Ok(SkyState {
             utc,
             jd_tt: instant.jd_tt,
-            observer_altitude_km: (o.elevation_m / 1000.0).clamp(0.0, scene.atmosphere.thickness_km * 0.9),
+            observer_altitude_km: (o.elevation_m / 1000.0)
+                .clamp(0.0, scene.atmosphere.thickness_km * 0.9),
             sun,
             passes,
         })

@@ -97,7 +97,7 @@ impl SunDisk {
     /// transmittance `t` along the line of sight.
     pub fn radiance_rgb(&self, dir: Vec3, t: &Spectrum) -> [f32; 3] {
         let f = self.transfer(dir) * *t;
-        self.weights.to_rgb(&f)
+        crate::spectrum::clip_to_gamut(self.weights.to_rgb(&f))
     }
 }
 

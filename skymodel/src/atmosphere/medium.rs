@@ -84,9 +84,8 @@ impl Medium {
             p.rayleigh_k / um.powi(4) * 1000.0
         });
         let mie_ext550 = p.aerosol_scattering / p.aerosol_albedo.max(1e-6) * p.aerosol_density;
-        let mie_extinction = Spectrum::from_fn(|nm| {
-            mie_ext550 * (nm / 550.0).powf(-p.aerosol_angstrom) * 1000.0
-        });
+        let mie_extinction =
+            Spectrum::from_fn(|nm| mie_ext550 * (nm / 550.0).powf(-p.aerosol_angstrom) * 1000.0);
         let mie_scattering = mie_extinction * p.aerosol_albedo as f32;
         // Tent profile: column = n_peak × half-width.
         let n_peak = p.ozone_du * DOBSON_UNIT_M2 / (p.ozone_half_width_km * 1000.0);

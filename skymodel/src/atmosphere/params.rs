@@ -107,16 +107,31 @@ impl AtmosphereParams {
         range("ground_radius_km", self.ground_radius_km, 100.0, 100_000.0)?;
         range("thickness_km", self.thickness_km, 1.0, 1000.0)?;
         range("rayleigh_k", self.rayleigh_k, 0.0, 1e-3)?;
-        range("rayleigh_scale_height_km", self.rayleigh_scale_height_km, 0.1, 100.0)?;
+        range(
+            "rayleigh_scale_height_km",
+            self.rayleigh_scale_height_km,
+            0.1,
+            100.0,
+        )?;
         range("aerosol_scattering", self.aerosol_scattering, 0.0, 1e-2)?;
         range("aerosol_density", self.aerosol_density, 0.0, 1000.0)?;
         range("aerosol_albedo", self.aerosol_albedo, 0.0, 1.0)?;
         range("aerosol_angstrom", self.aerosol_angstrom, -4.0, 4.0)?;
-        range("aerosol_scale_height_km", self.aerosol_scale_height_km, 0.01, 100.0)?;
+        range(
+            "aerosol_scale_height_km",
+            self.aerosol_scale_height_km,
+            0.01,
+            100.0,
+        )?;
         range("aerosol_g", self.aerosol_g, -0.99, 0.99)?;
         range("ozone_du", self.ozone_du, 0.0, 2000.0)?;
         range("ozone_peak_km", self.ozone_peak_km, 0.0, self.thickness_km)?;
-        range("ozone_half_width_km", self.ozone_half_width_km, 0.1, self.thickness_km)?;
+        range(
+            "ozone_half_width_km",
+            self.ozone_half_width_km,
+            0.1,
+            self.thickness_km,
+        )?;
         range("ground_albedo", self.ground_albedo, 0.0, 1.0)?;
         Ok(())
     }
@@ -147,6 +162,10 @@ pub struct LutConfig {
     /// Scattering orders: 1 = single scattering only, n ≥ 2 = the first
     /// n orders of Hillaire's geometric series, 0 = all orders (default).
     pub orders: u32,
+    /// Half-angle of the aerosol forward peak, degrees, that the LUT path
+    /// treats as unscattered light (δ-scaling; see
+    /// `lut::forward_scattering`); 0 turns it off (default 15).
+    pub forward_peak_deg: f32,
 }
 
 impl Default for LutConfig {
@@ -162,6 +181,7 @@ impl Default for LutConfig {
             sky_view_h: 128,
             sky_view_steps: 40,
             orders: 0,
+            forward_peak_deg: 15.0,
         }
     }
 }
@@ -180,6 +200,7 @@ impl LutConfig {
             sky_view_h: 64,
             sky_view_steps: 30,
             orders: 0,
+            forward_peak_deg: 15.0,
         }
     }
 }

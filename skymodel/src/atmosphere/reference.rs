@@ -19,7 +19,9 @@
 use glam::Vec3;
 
 use super::lut::{column_densities, integrate_segment, optical_depth};
-use super::medium::{cornette_shanks_phase, henyey_greenstein_phase, rayleigh_phase, safe_sqrt, Medium};
+use super::medium::{
+    cornette_shanks_phase, henyey_greenstein_phase, rayleigh_phase, safe_sqrt, Medium,
+};
 use crate::spectrum::{Spectrum, BANDS};
 
 /// Settings of the reference integrator.
@@ -66,7 +68,9 @@ impl Pcg32 {
     /// A generator from a seed.
     pub fn new(seed: u64) -> Self {
         let mut p = Pcg32 {
-            state: seed.wrapping_mul(6_364_136_223_846_793_005).wrapping_add(1_442_695_040_888_963_407),
+            state: seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407),
         };
         p.next_u32();
         p
@@ -149,7 +153,13 @@ pub fn radiance(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &ReferenceConfi
 }
 
 /// Single scattering (plus the directly lit ground when the ray hits it).
-pub fn single_scattering(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &ReferenceConfig) -> Spectrum {
+pub fn single_scattering(
+    m: &Medium,
+    r0: f32,
+    view: Vec3,
+    sun: Vec3,
+    cfg: &ReferenceConfig,
+) -> Spectrum {
     let pos = Vec3::new(0.0, 0.0, r0);
     let mu = view.z;
     let ground = m.hits_ground(r0, mu);
@@ -222,7 +232,12 @@ fn segment(m: &Medium, p: Vec3, d: Vec3, steps: usize) -> Segment {
         c[2] += dn.ozone * dt;
         cols.push(c);
     }
-    Segment { t_max, ground, cols, dt }
+    Segment {
+        t_max,
+        ground,
+        cols,
+        dt,
+    }
 }
 
 fn tau_ref(m: &Medium, c: [f32; 3]) -> f32 {
@@ -230,8 +245,19 @@ fn tau_ref(m: &Medium, c: [f32; 3]) -> f32 {
 }
 
 /// Orders ≥ 2 by Monte Carlo (see the module documentation).
-pub fn higher_orders(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &ReferenceConfig) -> Spectrum {
-    let mut rng = Pcg32::new(cfg.seed ^ (view.x.to_bits() as u64) << 1 ^ (view.z.to_bits() as u64) << 29 ^ (sun.z.to_bits() as u64) << 7);
+pub fn higher_orders(
+    m: &Medium,
+    r0: f32,
+    view: Vec3,
+    sun: Vec3,
+    cfg: &ReferenceConfig,
+) -> Spectrum {
+    let mut rng = Pcg32::new(
+        cfg.seed
+            ^ (view.x.to_bits() as u64) << 1
+            ^ (view.z.to_bits() as u64) << 29
+            ^ (sun.z.to_bits() as u64) << 7,
+    );
     let mut sum = Spectrum::ZERO;
     let start = Vec3::new(0.0, 0.0, r0);
     for _ in 0..cfg.paths {
@@ -243,7 +269,11 @@ pub fn higher_orders(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &Reference
             let tau_tot = tau_ref(m, *seg.cols.last().unwrap());
             // Choose the ground or the medium when the ray ends on the ground.
             let t_ground = (-tau_tot).exp();
-            let p_ground = if seg.ground { t_ground.clamp(0.2, 0.8) } else { 0.0 };
+            let p_ground = if seg.ground {
+                t_ground.clamp(0.2, 0.8)
+            } else {
+                0.0
+            };
             if seg.ground && rng.next_f32() < p_ground {
                 let pg = p + d * seg.t_max;
                 let n = pg.normalize();
@@ -269,7 +299,11 @@ pub fn higher_orders(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &Reference
                 let i = i.min(seg.cols.len() - 2);
                 let t0 = tau_ref(m, seg.cols[i]);
                 let t1 = tau_ref(m, seg.cols[i + 1]);
-                let frac = if t1 > t0 { ((target - t0) / (t1 - t0)).clamp(0.0, 1.0) } else { 0.5 };
+                let frac = if t1 > t0 {
+                    ((target - t0) / (t1 - t0)).clamp(0.0, 1.0)
+                } else {
+                    0.5
+                };
                 let t = (i as f32 + frac) * seg.dt;
                 let mut col = [0.0f32; 3];
                 for k in 0..3 {
@@ -285,7 +319,11 @@ pub fn higher_orders(m: &Medium, r0: f32, view: Vec3, sun: Vec3, cfg: &Reference
                 // Pick Rayleigh or aerosol by their scattering at the reference band.
                 let pr_sel = sr.0[REF_BAND] / (sr.0[REF_BAND] + sm.0[REF_BAND]).max(1e-20);
                 let rayleigh = rng.next_f32() < pr_sel;
-                let (sig, psel) = if rayleigh { (sr, pr_sel) } else { (sm, 1.0 - pr_sel) };
+                let (sig, psel) = if rayleigh {
+                    (sr, pr_sel)
+                } else {
+                    (sm, 1.0 - pr_sel)
+                };
                 if psel <= 0.0 {
                     break;
                 }
