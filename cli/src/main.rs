@@ -65,7 +65,7 @@ enum Command {
     Ephemeris(ephemeris_cmd::EphemerisArgs),
     /// Render the sky in absolute units to a PNG (camera model) or EXR (cd/m²).
     #[command(allow_negative_numbers = true)]
-    Render(render_cmd::RenderArgs),
+    Render(Box<render_cmd::RenderArgs>),
     /// Print a complete default scene (JSON) for `render --scene`.
     SceneTemplate,
 }

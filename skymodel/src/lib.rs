@@ -12,6 +12,9 @@
 //! * [`camera`] — metering, exposure, night vision, tone curve, sRGB, dither;
 //! * [`renderer`] — the [`SkyRenderer`] trait.
 
+// Band loops index several arrays at once; indices read better there.
+#![allow(clippy::needless_range_loop)]
+
 pub mod atmosphere;
 pub mod camera;
 pub mod projection;

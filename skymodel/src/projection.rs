@@ -392,13 +392,13 @@ mod tests {
                     let back = c.pixel_to_dir(qx, qy).unwrap();
                     assert!((back - d).length() < 1e-9, "{p:?} {i},{j}");
                     // The pixel itself round-trips (except at the equirect poles and the fisheye nadir ring).
-                    if p != Projection::Equirect || (j > 0 && j + 1 < h) {
-                        if p != Projection::Fisheye || d.z > -0.99 {
-                            assert!(
-                                (qx - px).abs() < 1e-6 && (qy - py).abs() < 1e-6,
-                                "{p:?} {i},{j}: {qx},{qy}"
-                            );
-                        }
+                    if (p != Projection::Equirect || (j > 0 && j + 1 < h))
+                        && (p != Projection::Fisheye || d.z > -0.99)
+                    {
+                        assert!(
+                            (qx - px).abs() < 1e-6 && (qy - py).abs() < 1e-6,
+                            "{p:?} {i},{j}: {qx},{qy}"
+                        );
                     }
                     n += 1;
                 }
@@ -409,8 +409,10 @@ mod tests {
 
     #[test]
     fn validation_names_fields() {
-        let mut c = Camera::default();
-        c.fov_deg = 0.0;
+        let mut c = Camera {
+            fov_deg: 0.0,
+            ..Camera::default()
+        };
         assert_eq!(c.validate().unwrap_err().field, "camera.fov_deg");
         c.fov_deg = 200.0;
         assert_eq!(c.validate().unwrap_err().field, "camera.fov_deg");

@@ -84,6 +84,7 @@ macro_rules! bandwise {
         impl $tr for Spectrum {
             type Output = Spectrum;
             #[inline]
+            #[allow(clippy::assign_op_pattern)]
             fn $f(self, o: Spectrum) -> Spectrum {
                 let mut s = self.0;
                 for b in 0..BANDS {
@@ -95,6 +96,7 @@ macro_rules! bandwise {
         impl $tr<f32> for Spectrum {
             type Output = Spectrum;
             #[inline]
+            #[allow(clippy::assign_op_pattern)]
             fn $f(self, o: f32) -> Spectrum {
                 let mut s = self.0;
                 for v in s.iter_mut() {

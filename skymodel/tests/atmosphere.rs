@@ -53,7 +53,7 @@ fn noon_zenith_luminance_in_clear_sky_range() {
 /// CIE standard general sky (ISO 15469:2004 / CIE S 011), relative
 /// luminance L(γ, Z)/L_z for a sky element at zenith angle Z and angular
 /// distance χ from the Sun, the Sun at zenith angle Z_s.
-fn cie_relative(a: f64, b: f64, c: f64, d: f64, e: f64, z: f64, chi: f64, zs: f64) -> f64 {
+fn cie_relative([a, b, c, d, e]: [f64; 5], z: f64, chi: f64, zs: f64) -> f64 {
     let phi = |z: f64| 1.0 + a * (b / z.cos()).exp();
     let f = |x: f64| {
         1.0 + c * ((d * x).exp() - (d * std::f64::consts::FRAC_PI_2).exp()) + e * x.cos().powi(2)
@@ -78,11 +78,7 @@ fn relative_distribution_matches_cie_type_12() {
                 if chi.to_degrees() >= 10.0 {
                     let model = lum(&sv, d, sun) as f64;
                     let cie = cie_relative(
-                        -1.0,
-                        -0.32,
-                        10.0,
-                        -3.0,
-                        0.45,
+                        [-1.0, -0.32, 10.0, -3.0, 0.45],
                         (90.0 - alt as f64).to_radians(),
                         chi as f64,
                         (90.0 - sun_alt as f64).to_radians(),
