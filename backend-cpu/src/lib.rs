@@ -63,6 +63,65 @@ pub fn sky_view(luts: &AtmosphereLuts, input: &SkyViewInput) -> SkyView {
     SkyView::from_rows(luts, input, rows)
 }
 
+/// The ENU direction of every pixel centre (`None` outside the
+/// projection), row-major. Fisheye and equirect use separable/closed forms
+/// in f32 (equal to [`himmel_skymodel::Camera::pixel_to_dir`] within 1e-6);
+/// the other projections call it per pixel.
+pub fn directions(cam: &himmel_skymodel::Camera) -> Vec<Option<Vec3>> {
+    use himmel_skymodel::Projection;
+    let (w, h) = cam.image_size();
+    let (w, h) = (w as usize, h as usize);
+    let mut out = vec![None; w * h];
+    match cam.projection {
+        Projection::Fisheye => {
+            let r = (w.min(h) as f64 / 2.0) as f32;
+            out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+                let dy = (y as f64 + 0.5 - h as f64 / 2.0) as f32;
+                for (x, o) in row.iter_mut().enumerate() {
+                    let dx = (x as f64 + 0.5 - w as f64 / 2.0) as f32;
+                    let rho = (dx * dx + dy * dy).sqrt();
+                    let zenith = std::f32::consts::FRAC_PI_2 * rho / r;
+                    if zenith > std::f32::consts::PI {
+                        continue;
+                    }
+                    let (s, c) = zenith.sin_cos();
+                    *o = Some(if rho > 0.0 {
+                        Vec3::new(-dx / rho * s, -dy / rho * s, c)
+                    } else {
+                        Vec3::Z
+                    });
+                }
+            });
+        }
+        Projection::Equirect => {
+            let az: Vec<(f32, f32)> = (0..w)
+                .map(|x| {
+                    let a = std::f64::consts::TAU * (x as f64 + 0.5) / w as f64;
+                    (a.sin() as f32, a.cos() as f32)
+                })
+                .collect();
+            out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+                let alt = std::f64::consts::FRAC_PI_2
+                    - std::f64::consts::PI * (y as f64 + 0.5) / h as f64;
+                let (sa, ca) = (alt.sin() as f32, alt.cos() as f32);
+                for (o, &(s, c)) in row.iter_mut().zip(&az) {
+                    *o = Some(Vec3::new(ca * s, ca * c, sa));
+                }
+            });
+        }
+        _ => {
+            out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
+                for (x, o) in row.iter_mut().enumerate() {
+                    *o = cam
+                        .pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5)
+                        .map(|d| d.as_vec3());
+                }
+            });
+        }
+    }
+    out
+}
+
 /// Sub-samples per axis for pixels near the Sun's disk.
 pub const SUN_SUPERSAMPLING: usize = 16;
 
@@ -144,13 +203,7 @@ impl SkyRenderer for CpuRenderer {
         let sun_dir = state.sun.dir().as_vec3().normalize();
 
         // Geometry: one direction per pixel centre.
-        let dirs: Vec<Option<Vec3>> = (0..w * h)
-            .into_par_iter()
-            .map(|i| {
-                let (x, y) = ((i % w) as f64 + 0.5, (i / w) as f64 + 0.5);
-                cam.pixel_to_dir(x, y).map(|d| d.as_vec3())
-            })
-            .collect();
+        let dirs = directions(&cam);
         let valid: Vec<bool> = dirs.iter().map(Option::is_some).collect();
         let mut pixels = vec![[0.0f32; 3]; w * h];
         let mut stats = Vec::new();
@@ -179,7 +232,11 @@ impl SkyRenderer for CpuRenderer {
                         sun_sin_elevation: sun_dir.z,
                         irradiance_scale: state.sun.irradiance_scale as f32,
                     };
+                    let tsv = Clock::now();
                     let sv = sky_view(luts, &input);
+                    if std::env::var_os("HIMMEL_TIMING").is_some() {
+                        eprintln!("sky view {:.1} ms", ms(tsv));
+                    }
                     pixels
                         .par_iter_mut()
                         .zip(dirs.par_iter())

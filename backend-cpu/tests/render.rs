@@ -133,3 +133,24 @@ fn cache_round_trip_and_key_changes_with_parameters() {
     assert!(cache::load(&dir, &p2, &cfg).is_none());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn fast_directions_equal_the_projection_definition() {
+    for p in [
+        Projection::Fisheye,
+        Projection::Equirect,
+        Projection::Perspective,
+    ] {
+        let s = scene(vec![], 90, 60, p);
+        let dirs = himmel_cpu::directions(&s.camera);
+        for (i, d) in dirs.iter().enumerate() {
+            let (x, y) = ((i % 90) as f64 + 0.5, (i / 90) as f64 + 0.5);
+            let want = s.camera.pixel_to_dir(x, y);
+            match (d, want) {
+                (Some(d), Some(wv)) => assert!((d.as_dvec3() - wv).length() < 1e-5, "{p:?} {i}"),
+                (None, None) => {}
+                _ => panic!("{p:?} {i}: {d:?} vs {want:?}"),
+            }
+        }
+    }
+}

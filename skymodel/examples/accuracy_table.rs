@@ -8,7 +8,7 @@
 //! directions of the upper sky (6 elevations 2–85° × 8 azimuths) for the
 //! Sun at +60, +10, 0, −4 and −8°.
 //!
-//! Environment: `SUNS=60,10` (Sun altitudes), `PATHS=3000` (reference
+//! Environment: `SUNS=60,10` (Sun altitudes), `PATHS=10000` (reference
 //! Monte-Carlo paths per direction), `AEROSOL=1` (aerosol density factor),
 //! `VERBOSE=1` (signed error per direction on stderr).
 
@@ -82,7 +82,7 @@ fn main() {
         ),
         ("small (16² MS, 36 dirs, 96×64 view)", LutConfig::small()),
         (
-            "default (32² MS, 64 dirs, 192×128 view)",
+            "default (32² MS, 64 dirs, 192×108 view, 30 steps)",
             LutConfig::default(),
         ),
         (

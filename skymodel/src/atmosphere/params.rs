@@ -155,9 +155,9 @@ pub struct LutConfig {
     pub multiscatter_steps: usize,
     /// Sky-view LUT width (azimuth from the Sun, 0–180°), default 192.
     pub sky_view_w: usize,
-    /// Sky-view LUT height (elevation 0–90°, square-root mapping), default 128.
+    /// Sky-view LUT height (elevation 0–90°, square-root mapping), default 108.
     pub sky_view_h: usize,
-    /// Ray-march steps per sky-view texel, default 40.
+    /// Ray-march steps per sky-view texel, default 30.
     pub sky_view_steps: usize,
     /// Scattering orders: 1 = single scattering only, n ≥ 2 = the first
     /// n orders of Hillaire's geometric series, 0 = all orders (default).
@@ -178,8 +178,8 @@ impl Default for LutConfig {
             multiscatter_dirs: 64,
             multiscatter_steps: 20,
             sky_view_w: 192,
-            sky_view_h: 128,
-            sky_view_steps: 40,
+            sky_view_h: 108,
+            sky_view_steps: 30,
             orders: 0,
             forward_peak_deg: 15.0,
         }
