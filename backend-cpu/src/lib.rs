@@ -203,7 +203,11 @@ impl SkyRenderer for CpuRenderer {
         let sun_dir = state.sun.dir().as_vec3().normalize();
 
         // Geometry: one direction per pixel centre.
+        let tg = Clock::now();
         let dirs = directions(&cam);
+        if std::env::var_os("HIMMEL_TIMING").is_some() {
+            eprintln!("geometry {:.1} ms", ms(tg));
+        }
         let valid: Vec<bool> = dirs.iter().map(Option::is_some).collect();
         let mut pixels = vec![[0.0f32; 3]; w * h];
         let mut stats = Vec::new();

@@ -43,6 +43,7 @@ fn sun_disk_position_and_illuminance_in_equirect() {
         sw += y * omega;
     }
     let want = state.sun.illuminance_lux;
+    eprintln!("Σ L·Ω = {e:.0} lx, E☉(d) = {want:.0} lx");
     assert!((e / want - 1.0).abs() < 0.02, "{e} lx vs {want} lx");
     assert!((120_000.0..136_000.0).contains(&want));
     // Centroid within 1 px of the refracted apparent place.
@@ -51,6 +52,7 @@ fn sun_disk_position_and_illuminance_in_equirect() {
         .dir_to_pixel(DVec3::from_array(state.sun.enu))
         .unwrap();
     let (cx, cy) = (cx / sw, cy / sw);
+    eprintln!("centroid ({cx:.3}, {cy:.3}) px, refracted apparent place ({sx:.3}, {sy:.3}) px");
     assert!(
         (cx - sx).hypot(cy - sy) < 1.0,
         "centroid {cx},{cy} vs {sx},{sy}"

@@ -43,6 +43,7 @@ fn noon_zenith_luminance_in_clear_sky_range() {
     for alt in [40.0, 55.0, 70.0] {
         let sv = sky(alt);
         let z = lum(&sv, Vec3::Z, enu(alt, 180.0));
+        eprintln!("Sun {alt}°: zenith {z:.0} cd/m²");
         assert!(
             (1500.0..10_000.0).contains(&z),
             "Sun {alt}°: zenith {z} cd/m²"
@@ -94,6 +95,7 @@ fn relative_distribution_matches_cie_type_12() {
         let mut dev: Vec<f64> = logs.iter().map(|l| (l - mean).abs()).collect();
         dev.sort_by(|a, b| a.partial_cmp(b).unwrap());
         let median = dev[dev.len() / 2];
+        eprintln!("Sun {sun_alt}°: median |ln(L/L_CIE12)| {median:.3}");
         assert!(
             median <= 0.26,
             "Sun {sun_alt}°: median |ln ratio| {median:.3}"
@@ -120,6 +122,7 @@ fn civil_twilight_zenith_and_earth_shadow() {
     let sun = enu(-4.0, 270.0);
     let sv = sky(-4.0);
     let z = lum(&sv, Vec3::Z, sun);
+    eprintln!("Sun −4°: zenith {z:.2} cd/m²");
     assert!((1.0..100.0).contains(&z), "zenith {z} cd/m²");
     // The Earth's shadow: in the antisolar sky the band just above the
     // horizon is darker than the sky above it (the Belt of Venus).
@@ -127,6 +130,7 @@ fn civil_twilight_zenith_and_earth_shadow() {
     let belt = (4..30)
         .map(|a| lum(&sv, enu(a as f32, 90.0), sun))
         .fold(0.0f32, f32::max);
+    eprintln!("Sun −4°: antisolar 1° {low:.2} cd/m², brightest 4–30° {belt:.2} cd/m²");
     assert!(belt > 1.2 * low, "shadow {low}, belt {belt}");
 }
 
@@ -134,6 +138,7 @@ fn civil_twilight_zenith_and_earth_shadow() {
 fn night_sky_is_dark() {
     let sv = sky(-20.0);
     let z = lum(&sv, Vec3::Z, enu(-20.0, 0.0));
+    eprintln!("Sun −20°: zenith {z:.2e} cd/m²");
     assert!(z < 1e-3, "zenith {z} cd/m²");
 }
 

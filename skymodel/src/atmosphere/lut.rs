@@ -468,7 +468,7 @@ pub struct SkyViewInput {
 impl SkyView {
     /// Radiance transfer factor (band radiance per unit solar irradiance,
     /// sr⁻¹) along one view ray from radius `r0` with local direction
-    /// `view` (z up) and the Sun at `sun`, marched in `steps` steps.
+    /// `view` (z up) and the Sun at `sun`, marched in at most `steps` steps.
     pub fn transfer(
         luts: &AtmosphereLuts,
         r0: f32,
@@ -489,13 +489,18 @@ impl SkyView {
         let pr = rayleigh_phase(cos_theta);
         let pm = cornette_shanks_phase(m.g, cos_theta);
         let fwd = luts.forward;
+        // Fewer steps on short rays: `steps` for the horizontal ray, scaled
+        // by √(length / horizontal length), at least 8 (Hillaire 2020 §5
+        // also scales the sample count with the ray length).
+        let t_h = m.distance_to_top(r0, 0.0).max(1e-3);
+        let n = ((steps as f32 * (t_max / t_h).sqrt()).ceil() as usize).clamp(steps.min(8), steps);
         let mut tv = Spectrum::ONE;
         let mut l = Spectrum::ZERO;
         let mut t_prev = 0.0f32;
-        for s in 0..steps {
+        for s in 0..n {
             // Quadratic spacing: short steps near the observer, where the
             // air is densest along near-horizontal rays.
-            let x = (s as f32 + 1.0) / steps as f32;
+            let x = (s as f32 + 1.0) / n as f32;
             let t_next = t_max * x * x;
             let dt = t_next - t_prev;
             let t = 0.5 * (t_prev + t_next);
