@@ -214,6 +214,14 @@ impl SkyRenderer for CpuRenderer {
         let mut precompute_ms = 0.0;
         let mut lut_source = "none";
 
+        // The parameter-dependent LUTs first: the Sun pass (behind the
+        // atmosphere) needs their transmittance.
+        if state.runs(Effect::Atmosphere) {
+            let tp = Clock::now();
+            let (_, source) = self.luts(&scene.atmosphere, &scene.lut);
+            precompute_ms = ms(tp);
+            lut_source = source;
+        }
         for planned in &state.passes {
             if !planned.run {
                 stats.push(PassStat {
@@ -227,10 +235,7 @@ impl SkyRenderer for CpuRenderer {
             let t0 = Clock::now();
             match planned.effect {
                 Effect::Atmosphere => {
-                    let tp = Clock::now();
-                    let (luts, source) = self.luts(&scene.atmosphere, &scene.lut);
-                    precompute_ms = ms(tp);
-                    lut_source = source;
+                    let (luts, _) = self.luts(&scene.atmosphere, &scene.lut);
                     let input = SkyViewInput {
                         observer_altitude_km: state.observer_altitude_km as f32,
                         sun_sin_elevation: sun_dir.z,
@@ -263,11 +268,11 @@ impl SkyRenderer for CpuRenderer {
                     let cos_margin = margin.cos() as f32;
                     // Back to front: the atmosphere pass comes later, but its
                     // extinction applies to the disk behind it.
-                    let extinct = state.runs(Effect::Atmosphere);
-                    if extinct {
-                        self.luts(&scene.atmosphere, &scene.lut);
-                    }
-                    let luts = if extinct { self.luts.as_ref() } else { None };
+                    let luts = if state.runs(Effect::Atmosphere) {
+                        self.luts.as_ref()
+                    } else {
+                        None
+                    };
                     let r0 = luts
                         .map(|l| l.medium.bottom + state.observer_altitude_km as f32)
                         .unwrap_or(0.0);

@@ -40,7 +40,7 @@ fn main() {
         paths: std::env::var("PATHS")
             .ok()
             .and_then(|p| p.parse().ok())
-            .unwrap_or(3000),
+            .unwrap_or(10_000),
         ..Default::default()
     };
     let medium = himmel_skymodel::atmosphere::Medium::new(&params);

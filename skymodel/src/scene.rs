@@ -267,8 +267,8 @@ impl Scene {
             ("lut.sky_view_steps", l.sky_view_steps),
         ];
         for (f, v) in sizes {
-            if !(2..=4096).contains(&v) {
-                return Err(SceneError::new(f, format!("{v} is outside [2, 4096]")));
+            if !(2..=1024).contains(&v) {
+                return Err(SceneError::new(f, format!("{v} is outside [2, 1024]")));
             }
         }
         if l.orders > 1000 {
