@@ -135,3 +135,78 @@ fn wgpu_backend_is_unavailable_exit_3() {
     assert_eq!(code, 3);
     assert!(err.contains("--backend cpu"), "{err}");
 }
+
+#[test]
+fn sun_disk_in_equirect_exr_matches_ephemeris_and_solar_illuminance() {
+    let exr = tmp("sun.exr");
+    let t = "2024-03-20T15:00:00Z";
+    let (code, _, err) = himmel(&[
+        "render",
+        "--time",
+        t,
+        "--lat",
+        "-33.9",
+        "--lon",
+        "-70.6",
+        "--projection",
+        "equirect",
+        "--width",
+        "2048",
+        "--height",
+        "1024",
+        "--effects",
+        "sun",
+        "--output",
+        &exr,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (w, h, px) = himmel_cpu::output::read_exr(std::path::Path::new(&exr)).unwrap();
+    let _ = std::fs::remove_file(&exr);
+    let (wf, hf) = (w as f64, h as f64);
+    let (mut e, mut cx, mut cy) = (0.0f64, 0.0f64, 0.0f64);
+    for (i, p) in px.iter().enumerate() {
+        let y = (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) as f64;
+        if y <= 0.0 {
+            continue;
+        }
+        let (x, row) = ((i % w) as f64, (i / w) as f64);
+        let top = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * row / hf;
+        let bot = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * (row + 1.0) / hf;
+        let omega = std::f64::consts::TAU / wf * (top.sin() - bot.sin());
+        e += y * omega;
+        cx += y * omega * (x + 0.5);
+        cy += y * omega * (row + 0.5);
+    }
+    let (cx, cy) = (cx / e, cy / e);
+    // The refracted apparent place from `himmel ephemeris`.
+    let (code, json, err) = himmel(&[
+        "ephemeris",
+        "--time",
+        t,
+        "--lat",
+        "-33.9",
+        "--lon",
+        "-70.6",
+        "--body",
+        "sun",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let sun = &v["bodies"]["sun"];
+    let alt = sun["alt_refracted_deg"].as_f64().unwrap();
+    let az = sun["az_deg"].as_f64().unwrap();
+    let (sx, sy) = (az / 360.0 * wf, (90.0 - alt) / 180.0 * hf);
+    assert!(
+        (cx - sx).hypot(cy - sy) < 1.0,
+        "disk at {cx},{cy}, ephemeris {sx},{sy}"
+    );
+    // Solar illuminance at the Sun's distance (127 klx at 1 AU for the
+    // model spectrum; ≈ 128 klx in the literature), within 2 %.
+    let d_au = sun["distance_km"].as_f64().unwrap() / 149_597_870.7;
+    let want =
+        himmel_skymodel::spectrum::BandWeights::solar().solar_illuminance_lux() / (d_au * d_au);
+    assert!((e / want - 1.0).abs() < 0.02, "{e} lx vs {want} lx");
+    assert!((120_000.0..136_000.0).contains(&want));
+}

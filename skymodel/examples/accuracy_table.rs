@@ -98,6 +98,15 @@ fn main() {
             },
         ),
     ];
+    // Trial overrides of the multiple-scattering LUT (MS=n,dirs,steps).
+    if let Ok(ms) = std::env::var("MS") {
+        let v: Vec<usize> = ms.split(',').map(|x| x.parse().unwrap()).collect();
+        for c in configs.iter_mut() {
+            c.1.multiscatter_n = v[0];
+            c.1.multiscatter_dirs = v[1];
+            c.1.multiscatter_steps = v[2];
+        }
+    }
     if let Some(f) = fwd {
         for c in configs.iter_mut() {
             c.1.forward_peak_deg = f;
