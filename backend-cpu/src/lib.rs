@@ -205,9 +205,8 @@ impl SkyRenderer for CpuRenderer {
         // Geometry: one direction per pixel centre.
         let tg = Clock::now();
         let dirs = directions(&cam);
-        if std::env::var_os("HIMMEL_TIMING").is_some() {
-            eprintln!("geometry {:.1} ms", ms(tg));
-        }
+        let geometry_ms = ms(tg);
+        let mut sky_view_ms = 0.0;
         let valid: Vec<bool> = dirs.iter().map(Option::is_some).collect();
         let mut pixels = vec![[0.0f32; 3]; w * h];
         let mut stats = Vec::new();
@@ -243,9 +242,7 @@ impl SkyRenderer for CpuRenderer {
                     };
                     let tsv = Clock::now();
                     let sv = sky_view(luts, &input);
-                    if std::env::var_os("HIMMEL_TIMING").is_some() {
-                        eprintln!("sky view {:.1} ms", ms(tsv));
-                    }
+                    sky_view_ms = ms(tsv);
                     pixels
                         .par_iter_mut()
                         .zip(dirs.par_iter())
@@ -340,6 +337,8 @@ impl SkyRenderer for CpuRenderer {
             passes: stats,
             precompute_ms,
             lut_source,
+            geometry_ms,
+            sky_view_ms,
         })
     }
 }

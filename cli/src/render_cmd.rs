@@ -293,6 +293,8 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             "total_ms": t_total.elapsed().as_secs_f64() * 1e3,
             "precompute_ms": out.precompute_ms,
             "lut_source": out.lut_source,
+            "geometry_ms": out.geometry_ms,
+            "sky_view_ms": out.sky_view_ms,
             "write_ms": write_ms,
             "ev100": ev,
             "time_utc": format_utc(&state.utc),

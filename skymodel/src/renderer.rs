@@ -45,6 +45,10 @@ pub struct RenderOutput {
     pub precompute_ms: f64,
     /// Where the LUTs came from: `computed`, `disk-cache`, `memory`, or `none`.
     pub lut_source: &'static str,
+    /// Time spent on the per-pixel view directions, ms.
+    pub geometry_ms: f64,
+    /// Time spent on the per-frame sky-view LUT (part of the atmosphere pass), ms.
+    pub sky_view_ms: f64,
 }
 
 /// A renderer failure.
