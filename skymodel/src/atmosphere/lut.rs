@@ -276,6 +276,10 @@ impl AtmosphereLuts {
                         let mug = pg.dot(sun) / rg;
                         let tsun = sun_transmittance(medium, transmittance, rg, mug);
                         l += tv * tsun * (mug.max(0.0) * medium.albedo / std::f32::consts::PI);
+                        // The ground also reflects the isotropic field itself:
+                        // irradiance π L, reflected radiance albedo · L (a
+                        // term Hillaire's f_ms leaves out; it matters at low
+                        // Sun, when most of the ground's light is skylight).
                     }
                     l2 += l;
                     fms += f;
@@ -489,6 +493,15 @@ impl SkyView {
         let pr = rayleigh_phase(cos_theta);
         let pm = cornette_shanks_phase(m.g, cos_theta);
         let fwd = luts.forward;
+        // Within the δ-scaled forward cone the aerosol phase function is
+        // flattened (that light already travels in the δ-scaled beam); the
+        // peak above the flat part is single scattering of the true beam.
+        let cone = luts.config.forward_peak_deg.to_radians().cos();
+        let pm_flat = if luts.config.forward_peak_deg > 0.0 && cos_theta > cone {
+            cornette_shanks_phase(m.g, cone)
+        } else {
+            pm
+        };
         // Fewer steps on short rays: `steps` for the horizontal ray, scaled
         // by √(length / horizontal length), at least 8 (Hillaire 2020 §5
         // also scales the sample count with the ray length).
@@ -513,7 +526,10 @@ impl SkyView {
             let ext = m.extinction(dens) - fwd * dens.mie;
             let tsun = luts.scattering_sun_transmittance(rp, mus);
             let psi = luts.multiscatter_at(rp, mus);
-            let src = (sr * pr + sm * pm) * tsun + (sr + sm - fwd * dens.mie) * psi;
+            let mut src = (sr * pr + sm * pm_flat) * tsun + (sr + sm - fwd * dens.mie) * psi;
+            if pm > pm_flat {
+                src += sm * (pm - pm_flat) * luts.sun_transmittance(rp, mus);
+            }
             let seg = (ext * dt).exp_neg();
             l += tv * src * integrate_segment(ext, seg, dt);
             tv *= seg;
