@@ -3,8 +3,9 @@
 
 use std::path::Path;
 
-use himmel_skymodel::camera::{develop, CameraSettings};
+use himmel_skymodel::camera::{develop_pixel, exposure_ev100, exposure_scale, CameraSettings};
 use himmel_skymodel::HdrImage;
+use rayon::prelude::*;
 
 /// Output format chosen by the file extension.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -47,7 +48,25 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
 
 /// Develops with the camera model and writes a PNG; returns the EV100 used.
 pub fn write_png(path: &Path, img: &HdrImage, settings: &CameraSettings) -> Result<f64, String> {
-    let (rgb8, ev) = develop(img.width, &img.pixels, &img.valid, settings);
+    // The camera model of himmel_skymodel::camera::develop, rows in parallel.
+    let ev = exposure_ev100(&img.pixels, &img.valid, settings);
+    let k = exposure_scale(ev);
+    let w = img.width.max(1);
+    let mut rgb8 = vec![0u8; img.pixels.len() * 3];
+    rgb8.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
+        for x in 0..w {
+            let i = y * w + x;
+            if i < img.pixels.len() && img.valid[i] {
+                row[x * 3..x * 3 + 3].copy_from_slice(&develop_pixel(
+                    img.pixels[i],
+                    x,
+                    y,
+                    k,
+                    settings,
+                ));
+            }
+        }
+    });
     let buf = image::RgbImage::from_raw(img.width as u32, img.height as u32, rgb8)
         .ok_or("image buffer size mismatch")?;
     let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;

@@ -180,38 +180,62 @@ pub struct CameraSettings {
     pub dither: bool,
 }
 
+/// The EV100 the settings choose for an image (metered or fixed).
+pub fn exposure_ev100(pixels: &[[f32; 3]], valid: &[bool], settings: &CameraSettings) -> f64 {
+    match settings.exposure {
+        Exposure::Auto => meter_ev100(pixels, valid),
+        Exposure::Ev100(v) => v,
+    }
+}
+
+/// Exposure scale of an EV100: H = L / (1.2 · 2^EV100).
+pub fn exposure_scale(ev100: f64) -> f32 {
+    (1.0 / (1.2 * 2f64.powf(ev100))) as f32
+}
+
+/// Develops one pixel (linear sRGB, cd/m²) at image position (x, y) with
+/// exposure scale `k` into 8-bit sRGB.
+#[inline]
+pub fn develop_pixel(
+    rgb: [f32; 3],
+    x: usize,
+    y: usize,
+    k: f32,
+    settings: &CameraSettings,
+) -> [u8; 3] {
+    let rgb = if settings.night_vision {
+        night_vision(rgb)
+    } else {
+        rgb
+    };
+    let d = if settings.dither {
+        (BAYER8[y & 7][x & 7] as f32 + 0.5) / 64.0
+    } else {
+        0.5
+    };
+    let mut out = [0u8; 3];
+    for c in 0..3 {
+        let v = srgb_encode(aces_filmic(rgb[c] * k));
+        out[c] = (v * 255.0 + d).floor().clamp(0.0, 255.0) as u8;
+    }
+    out
+}
+
 /// Develops an HDR image (linear sRGB, cd/m²) into 8-bit sRGB; returns the
-/// pixels (RGB, row-major) and the EV100 used.
+/// pixels (RGB, row-major; black where not `valid`) and the EV100 used.
 pub fn develop(
     width: usize,
     pixels: &[[f32; 3]],
     valid: &[bool],
     settings: &CameraSettings,
 ) -> (Vec<u8>, f64) {
-    let ev = match settings.exposure {
-        Exposure::Auto => meter_ev100(pixels, valid),
-        Exposure::Ev100(v) => v,
-    };
-    let k = (1.0 / (1.2 * 2f64.powf(ev))) as f32;
+    let ev = exposure_ev100(pixels, valid, settings);
+    let k = exposure_scale(ev);
     let mut out = vec![0u8; pixels.len() * 3];
     for (i, p) in pixels.iter().enumerate() {
-        if !valid[i] {
-            continue;
-        }
-        let (x, y) = (i % width.max(1), i / width.max(1));
-        let rgb = if settings.night_vision {
-            night_vision(*p)
-        } else {
-            *p
-        };
-        let d = if settings.dither {
-            (BAYER8[y & 7][x & 7] as f32 + 0.5) / 64.0
-        } else {
-            0.5
-        };
-        for c in 0..3 {
-            let v = srgb_encode(aces_filmic(rgb[c] * k));
-            out[i * 3 + c] = (v * 255.0 + d).floor().clamp(0.0, 255.0) as u8;
+        if valid[i] {
+            let (x, y) = (i % width.max(1), i / width.max(1));
+            out[i * 3..i * 3 + 3].copy_from_slice(&develop_pixel(*p, x, y, k, settings));
         }
     }
     (out, ev)
