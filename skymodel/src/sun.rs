@@ -3,7 +3,7 @@
 //! illuminance equals the extraterrestrial solar illuminance at the Sun's
 //! distance (times the atmospheric transmittance when the atmosphere is on).
 //!
-//! Limb darkening: I(μ)/I(1) = μ^α(λ) with α(λ) = −0.023 + 0.292 / λ[µm]
+//! Limb darkening: I(μ)/I(1) = μ^α(λ) with α(λ) = −0.023 + 0.292 / (λ in µm)
 //! (Hestroffer & Magnan 1998, A&A 333, 338, eq. 4, fitted to Neckel & Labs
 //! 1994), μ = cos of the angle between the line of sight and the solar
 //! surface normal. A larger `sun_scale` enlarges the disk and lowers its

@@ -6,7 +6,7 @@
 //!   spherical geometry;
 //! * [`lut`] — Hillaire (2020) transmittance, multiple-scattering and
 //!   sky-view LUTs;
-//! * [`reference`] — the brute-force reference (ray marching + Monte-Carlo
+//! * [`mod@reference`] — the brute-force reference (ray marching + Monte-Carlo
 //!   orders ≥ 2), for tests and the accuracy table.
 //!
 //! Why Hillaire rather than Bruneton & Neyret: a parameter change costs a
