@@ -249,3 +249,23 @@ fn finite_at_horizon_zenith_nadir_and_grazing() {
         }
     }
 }
+
+#[test]
+fn twilight_zenith_colour_is_smooth() {
+    // Sun −4.3°: the colour (R/B) and luminance from 60° elevation up to the
+    // zenith change smoothly — no ring from the sky-view sampling.
+    let sun = enu(-4.3, 313.0);
+    let sv = sky(-4.3);
+    let series: Vec<[f32; 3]> = (60..=90)
+        .map(|e| sv.radiance(enu(e as f32, 133.0), sun))
+        .collect();
+    for w in series.windows(3) {
+        let rb = |c: [f32; 3]| c[0] / c[2];
+        // Second difference small against the values themselves.
+        let d2 = rb(w[0]) - 2.0 * rb(w[1]) + rb(w[2]);
+        assert!(d2.abs() < 0.01 * rb(w[1]), "R/B bump {d2} at {:?}", w[1]);
+        let y = |c: [f32; 3]| luminance(c);
+        let d2y = y(w[0]) - 2.0 * y(w[1]) + y(w[2]);
+        assert!(d2y.abs() < 0.01 * y(w[1]), "Y bump {d2y} at {:?}", w[1]);
+    }
+}

@@ -503,10 +503,10 @@ impl SkyView {
             pm
         };
         // Fewer steps on short rays: `steps` for the horizontal ray, scaled
-        // by √(length / horizontal length), at least 8 (Hillaire 2020 §5
+        // by √(length / horizontal length), at least 20 (Hillaire 2020 §5
         // also scales the sample count with the ray length).
         let t_h = m.distance_to_top(r0, 0.0).max(1e-3);
-        let n = ((steps as f32 * (t_max / t_h).sqrt()).ceil() as usize).clamp(steps.min(8), steps);
+        let n = ((steps as f32 * (t_max / t_h).sqrt()).ceil() as usize).clamp(steps.min(20), steps);
         let mut tv = Spectrum::ONE;
         let mut l = Spectrum::ZERO;
         let mut t_prev = 0.0f32;
