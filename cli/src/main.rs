@@ -6,6 +6,7 @@
 
 mod ephemeris_cmd;
 mod events_cmd;
+mod render_cmd;
 mod stars_cmd;
 mod timearg;
 
@@ -94,6 +95,11 @@ enum Command {
     /// Lunar and solar eclipses in an interval (solar: global or --local).
     #[command(allow_negative_numbers = true)]
     Eclipses(events_cmd::EclipsesArgs),
+    /// Render the sky in absolute units to a PNG (camera model) or EXR (cd/m²).
+    #[command(allow_negative_numbers = true)]
+    Render(Box<render_cmd::RenderArgs>),
+    /// Print a complete default scene (JSON) for `render --scene`.
+    SceneTemplate,
 }
 
 fn main() -> ExitCode {
@@ -135,6 +141,8 @@ fn main() -> ExitCode {
         Command::Phases(args) => events_cmd::run_phases(&args),
         Command::Riseset(args) => events_cmd::run_riseset(&args),
         Command::Eclipses(args) => events_cmd::run_eclipses(&args),
+        Command::Render(args) => render_cmd::run(&args),
+        Command::SceneTemplate => render_cmd::template(),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,158 @@
+//! CPU renderer: Sun disk position and energy, pass plan, cache.
+
+use glam::DVec3;
+use himmel_cpu::{cache, CpuRenderer};
+use himmel_skymodel::atmosphere::{AtmosphereParams, LutConfig};
+use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
+
+fn scene(effects: Vec<Effect>, w: u32, h: u32, p: Projection) -> Scene {
+    let mut s = Scene::default();
+    s.time.utc = "2024-06-21T07:30:00Z".into();
+    s.observer.lat_deg = 48.14;
+    s.observer.lon_deg = 11.58;
+    s.effects = effects;
+    s.camera.width = w;
+    s.camera.height = h;
+    s.camera.projection = p;
+    s.lut = LutConfig::small();
+    s
+}
+
+#[test]
+fn sun_disk_position_and_illuminance_in_equirect() {
+    let s = scene(vec![Effect::Sun], 2048, 1024, Projection::Equirect);
+    let state = SkyState::at(&s).unwrap();
+    let out = CpuRenderer::new(None).render(&s, &state).unwrap();
+    let img = &out.image;
+    let (w, h) = (img.width as f64, img.height as f64);
+    // Σ L · Ω over the image (equirect pixel solid angle: Δaz · Δ sin(alt)).
+    let mut e = 0.0f64;
+    let (mut cx, mut cy, mut sw) = (0.0, 0.0, 0.0);
+    for (i, p) in img.pixels.iter().enumerate() {
+        let y = himmel_skymodel::spectrum::luminance(*p) as f64;
+        if y <= 0.0 {
+            continue;
+        }
+        let (px, py) = ((i % img.width) as f64, (i / img.width) as f64);
+        let alt_top = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * py / h;
+        let alt_bot = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * (py + 1.0) / h;
+        let omega = std::f64::consts::TAU / w * (alt_top.sin() - alt_bot.sin());
+        e += y * omega;
+        cx += y * omega * (px + 0.5);
+        cy += y * omega * (py + 0.5);
+        sw += y * omega;
+    }
+    let want = state.sun.illuminance_lux;
+    eprintln!("Σ L·Ω = {e:.0} lx, E☉(d) = {want:.0} lx");
+    assert!((e / want - 1.0).abs() < 0.02, "{e} lx vs {want} lx");
+    assert!((120_000.0..136_000.0).contains(&want));
+    // Centroid within 1 px of the refracted apparent place.
+    let (sx, sy) = s
+        .camera
+        .dir_to_pixel(DVec3::from_array(state.sun.enu))
+        .unwrap();
+    let (cx, cy) = (cx / sw, cy / sw);
+    eprintln!("centroid ({cx:.3}, {cy:.3}) px, refracted apparent place ({sx:.3}, {sy:.3}) px");
+    assert!(
+        (cx - sx).hypot(cy - sy) < 1.0,
+        "centroid {cx},{cy} vs {sx},{sy}"
+    );
+    assert!(state.sun.alt_refracted_deg > state.sun.alt_deg);
+}
+
+#[test]
+fn atmosphere_only_runs_one_pass_and_says_why_not_the_others() {
+    let s = scene(vec![Effect::Atmosphere], 64, 64, Projection::Fisheye);
+    let state = SkyState::at(&s).unwrap();
+    let out = CpuRenderer::new(None).render(&s, &state).unwrap();
+    assert_eq!(out.passes.len(), 7);
+    for p in &out.passes {
+        if p.name == "atmosphere" {
+            assert!(p.ran && p.ms.is_some());
+        } else {
+            assert!(!p.ran && p.ms.is_none());
+            assert_eq!(p.reason.as_deref(), Some("not requested"), "{}", p.name);
+        }
+    }
+    assert!(out
+        .image
+        .pixels
+        .iter()
+        .all(|p| p.iter().all(|v| v.is_finite())));
+}
+
+#[test]
+fn later_effects_are_reported_not_available() {
+    let s = scene(
+        vec![Effect::Moon, Effect::Stars],
+        16,
+        16,
+        Projection::Fisheye,
+    );
+    let state = SkyState::at(&s).unwrap();
+    let out = CpuRenderer::new(None).render(&s, &state).unwrap();
+    let moon = out.passes.iter().find(|p| p.name == "moon").unwrap();
+    assert!(!moon.ran && moon.reason.as_deref().unwrap().starts_with("not available"));
+}
+
+#[test]
+fn every_projection_renders_finite_pixels() {
+    for p in [
+        Projection::Fisheye,
+        Projection::Equirect,
+        Projection::Perspective,
+        Projection::Cubemap,
+    ] {
+        let s = scene(vec![Effect::Atmosphere, Effect::Sun], 48, 32, p);
+        let state = SkyState::at(&s).unwrap();
+        let out = CpuRenderer::new(None).render(&s, &state).unwrap();
+        let (w, h) = s.camera.image_size();
+        assert_eq!(out.image.pixels.len(), (w * h) as usize);
+        assert!(
+            out.image
+                .pixels
+                .iter()
+                .all(|p| p.iter().all(|v| v.is_finite())),
+            "{p:?}"
+        );
+    }
+}
+
+#[test]
+fn cache_round_trip_and_key_changes_with_parameters() {
+    let dir = std::env::temp_dir().join(format!("himmel-cache-test-{}", std::process::id()));
+    let params = AtmosphereParams::default();
+    let cfg = LutConfig::small();
+    let luts = himmel_cpu::precompute(&params, &cfg, false);
+    cache::store(&dir, &luts).unwrap();
+    let back = cache::load(&dir, &params, &cfg).unwrap();
+    assert_eq!(back.transmittance, luts.transmittance);
+    assert_eq!(back.scattering_transmittance, luts.scattering_transmittance);
+    assert_eq!(back.multiscatter, luts.multiscatter);
+    let mut p2 = params.clone();
+    p2.aerosol_density = 2.0;
+    assert_ne!(cache::key(&params, &cfg), cache::key(&p2, &cfg));
+    assert!(cache::load(&dir, &p2, &cfg).is_none());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn fast_directions_equal_the_projection_definition() {
+    for p in [
+        Projection::Fisheye,
+        Projection::Equirect,
+        Projection::Perspective,
+    ] {
+        let s = scene(vec![], 90, 60, p);
+        let dirs = himmel_cpu::directions(&s.camera);
+        for (i, d) in dirs.iter().enumerate() {
+            let (x, y) = ((i % 90) as f64 + 0.5, (i / 90) as f64 + 0.5);
+            let want = s.camera.pixel_to_dir(x, y);
+            match (d, want) {
+                (Some(d), Some(wv)) => assert!((d.as_dvec3() - wv).length() < 1e-5, "{p:?} {i}"),
+                (None, None) => {}
+                _ => panic!("{p:?} {i}: {d:?} vs {want:?}"),
+            }
+        }
+    }
+}

@@ -1,0 +1,322 @@
+//! `himmel render` and `himmel scene-template` (spec/cli.md).
+
+use std::path::PathBuf;
+use std::time::Instant as Clock;
+
+use clap::Args;
+use himmel_cpu::output::{self, Format as ImageFormat};
+use himmel_cpu::CpuRenderer;
+use himmel_skymodel::camera::{CameraSettings, Exposure};
+use himmel_skymodel::scene::parse_effects;
+use himmel_skymodel::{Projection, Scene, SkyRenderer, SkyState};
+use serde_json::json;
+
+use crate::ephemeris_cmd::{parse_precision, parse_time};
+use crate::timearg::format_utc;
+use crate::CliError;
+
+#[derive(Args, Debug)]
+pub struct RenderArgs {
+    /// Instant, RFC 3339 civil UTC or `now` (required unless the scene has one).
+    #[arg(long, value_name = "TIME")]
+    time: Option<String>,
+    /// Geodetic latitude, degrees in [-90, 90].
+    #[arg(long, value_name = "DEG")]
+    lat: Option<f64>,
+    /// East longitude, degrees in [-180, 180].
+    #[arg(long, value_name = "DEG")]
+    lon: Option<f64>,
+    /// Elevation above the WGS84 ellipsoid, metres (default 0).
+    #[arg(long, value_name = "M")]
+    elevation: Option<f64>,
+    /// Astronomy accuracy tier: low, standard or high.
+    #[arg(long, value_name = "TIER")]
+    precision: Option<String>,
+    /// Image width in pixels (default 1024; a cube map is 6 × height wide).
+    #[arg(long, value_name = "PX")]
+    width: Option<u64>,
+    /// Image height in pixels (default 1024).
+    #[arg(long, value_name = "PX")]
+    height: Option<u64>,
+    /// fisheye, equirect, perspective or cubemap (default fisheye).
+    #[arg(long, value_name = "NAME")]
+    projection: Option<String>,
+    /// Perspective camera azimuth, degrees from North through East.
+    #[arg(long, value_name = "DEG")]
+    yaw: Option<f64>,
+    /// Perspective camera altitude, degrees in [-90, 90].
+    #[arg(long, value_name = "DEG")]
+    pitch: Option<f64>,
+    /// Perspective vertical field of view, degrees in (0, 180).
+    #[arg(long, value_name = "DEG")]
+    fov: Option<f64>,
+    /// cpu, wgpu or auto (default cpu).
+    #[arg(long, value_name = "NAME", default_value = "cpu")]
+    backend: String,
+    /// Comma list of atmosphere, sun, moon, stars, planets, milkyway, clouds.
+    #[arg(long, value_name = "LIST")]
+    effects: Option<String>,
+    /// JSON scene file (see `himmel scene-template`); flags override it.
+    #[arg(long, value_name = "FILE")]
+    scene: Option<PathBuf>,
+    /// `auto` or a fixed EV100.
+    #[arg(long, value_name = "EV")]
+    exposure: Option<String>,
+    /// Drawn Moon size relative to the true one.
+    #[arg(long, value_name = "K")]
+    moon_scale: Option<f64>,
+    /// Drawn Sun size relative to the true one (illuminance kept).
+    #[arg(long, value_name = "K")]
+    sun_scale: Option<f64>,
+    /// Write render statistics (passes, times) as JSON to FILE.
+    #[arg(long, value_name = "FILE")]
+    stats: Option<PathBuf>,
+    /// Output image: FILE.png (tone-mapped sRGB) or FILE.exr (linear, cd/m²).
+    #[arg(long, value_name = "FILE")]
+    output: Option<PathBuf>,
+}
+
+fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(CliError::input(format!(
+            "{flag} {v} is not a finite number"
+        )))
+    }
+}
+
+fn size(flag: &str, v: u64) -> Result<u32, CliError> {
+    if v == 0 {
+        return Err(CliError::input(format!(
+            "{flag} 0: must be at least 1 pixel"
+        )));
+    }
+    u32::try_from(v).map_err(|_| {
+        CliError::input(format!(
+            "{flag} {v}: image larger than the limit of 64 Mpx (W·H ≤ {})",
+            himmel_skymodel::projection::MAX_PIXELS
+        ))
+    })
+}
+
+/// The flag that sets a scene field, for error messages.
+fn flag_of(field: &str) -> &'static str {
+    match field {
+        "camera.width" => "--width",
+        "camera.height" => "--height",
+        "camera.fov_deg" => "--fov",
+        "camera.yaw_deg" => "--yaw",
+        "camera.pitch_deg" => "--pitch",
+        "observer.lat_deg" => "--lat",
+        "observer.lon_deg" => "--lon",
+        "observer.elevation_m" => "--elevation",
+        "time.utc" => "--time",
+        "precision" => "--precision",
+        "sun_scale" => "--sun-scale",
+        "moon_scale" => "--moon-scale",
+        _ => "--scene",
+    }
+}
+
+/// Builds the scene from the file and the flags.
+fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
+    let mut scene = match &a.scene {
+        Some(p) => {
+            let text = std::fs::read_to_string(p).map_err(|e| {
+                CliError::input(format!("--scene {}: cannot read ({e})", p.display()))
+            })?;
+            Scene::from_json(&text)
+                .map_err(|e| CliError::input(format!("--scene {}: {}", p.display(), e.message)))?
+        }
+        None => {
+            let mut s = Scene::default();
+            if a.time.is_none() {
+                return Err(CliError::input(
+                    "--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)",
+                ));
+            }
+            if a.lat.is_none() {
+                return Err(CliError::input("--lat is required (degrees in [-90, 90])"));
+            }
+            if a.lon.is_none() {
+                return Err(CliError::input(
+                    "--lon is required (degrees east in [-180, 180])",
+                ));
+            }
+            s.time.utc = String::new();
+            s
+        }
+    };
+    if let Some(t) = &a.time {
+        let utc = parse_time(t).map_err(CliError::input)?;
+        scene.time.utc = format_utc(&utc);
+    }
+    if let Some(v) = a.lat {
+        let v = finite("--lat", v)?;
+        if !(-90.0..=90.0).contains(&v) {
+            return Err(CliError::input(format!("--lat {v} is outside [-90, 90]")));
+        }
+        scene.observer.lat_deg = v;
+    }
+    if let Some(v) = a.lon {
+        let v = finite("--lon", v)?;
+        if !(-360.0..=360.0).contains(&v) {
+            return Err(CliError::input(format!("--lon {v} is outside [-180, 180]")));
+        }
+        scene.observer.lon_deg = v;
+    }
+    if let Some(v) = a.elevation {
+        scene.observer.elevation_m = finite("--elevation", v)?;
+    }
+    if let Some(p) = &a.precision {
+        parse_precision(p).map_err(CliError::input)?;
+        scene.precision = p.trim().to_ascii_lowercase();
+    }
+    if let Some(v) = a.width {
+        scene.camera.width = size("--width", v)?;
+    }
+    if let Some(v) = a.height {
+        scene.camera.height = size("--height", v)?;
+    }
+    if let Some(p) = &a.projection {
+        scene.camera.projection = Projection::from_name(p).ok_or_else(|| {
+            CliError::input(format!(
+                "--projection: unknown projection '{p}'; expected fisheye, equirect, perspective or cubemap"
+            ))
+        })?;
+    }
+    if let Some(v) = a.yaw {
+        scene.camera.yaw_deg = finite("--yaw", v)?;
+    }
+    if let Some(v) = a.pitch {
+        scene.camera.pitch_deg = finite("--pitch", v)?;
+    }
+    if let Some(v) = a.fov {
+        scene.camera.fov_deg = finite("--fov", v)?;
+    }
+    if let Some(list) = &a.effects {
+        scene.effects =
+            parse_effects(list).map_err(|e| CliError::input(format!("--effects: {e}")))?;
+    }
+    if let Some(e) = &a.exposure {
+        scene.exposure = Exposure::parse(e).ok_or_else(|| {
+            CliError::input(format!(
+                "--exposure: '{e}' is neither auto nor an EV100 number in [-30, 40]"
+            ))
+        })?;
+    }
+    if let Some(v) = a.sun_scale {
+        scene.sun_scale = finite("--sun-scale", v)?;
+    }
+    if let Some(v) = a.moon_scale {
+        scene.moon_scale = finite("--moon-scale", v)?;
+    }
+    scene.validate().map_err(|e| {
+        CliError::input(format!(
+            "{} ({}): {}",
+            flag_of(&e.field),
+            e.field,
+            e.message
+        ))
+    })?;
+    Ok(scene)
+}
+
+pub fn run(a: &RenderArgs) -> Result<(), CliError> {
+    let t_total = Clock::now();
+    let output = a
+        .output
+        .as_ref()
+        .ok_or_else(|| CliError::input("--output is required (FILE.png or FILE.exr)"))?;
+    let format = ImageFormat::of(output).ok_or_else(|| {
+        CliError::input(format!(
+            "--output {}: unsupported extension; expected .png or .exr",
+            output.display()
+        ))
+    })?;
+    match a.backend.trim() {
+        "cpu" => {}
+        "auto" => {
+            eprintln!("note: the wgpu backend is not built in this version; using --backend cpu")
+        }
+        "wgpu" => {
+            return Err(CliError {
+                code: 3,
+                message:
+                    "--backend wgpu: no wgpu adapter available in this build; use --backend cpu"
+                        .into(),
+            })
+        }
+        other => {
+            return Err(CliError::input(format!(
+                "--backend: unknown backend '{other}'; expected cpu, wgpu or auto"
+            )))
+        }
+    }
+    let scene = build_scene(a)?;
+    let state = SkyState::at(&scene).map_err(|e| {
+        CliError::input(format!(
+            "{} ({}): {}",
+            flag_of(&e.field),
+            e.field,
+            e.message
+        ))
+    })?;
+    let mut renderer = CpuRenderer::new(himmel_cpu::cache::default_dir());
+    renderer.progress = true;
+    let out = renderer
+        .render(&scene, &state)
+        .map_err(|e| CliError::other(e.to_string()))?;
+    let t_write = Clock::now();
+    let ev = match format {
+        ImageFormat::Exr => {
+            output::write_exr(output, &out.image).map_err(CliError::other)?;
+            None
+        }
+        ImageFormat::Png => {
+            let settings = CameraSettings {
+                exposure: scene.exposure,
+                night_vision: scene.night_vision,
+                dither: scene.dither,
+            };
+            Some(output::write_png(output, &out.image, &settings).map_err(CliError::other)?)
+        }
+    };
+    let write_ms = t_write.elapsed().as_secs_f64() * 1e3;
+    if let Some(path) = &a.stats {
+        let stats = json!({
+            "backend": renderer.name(),
+            "width": out.image.width,
+            "height": out.image.height,
+            "passes": out.passes,
+            "total_ms": t_total.elapsed().as_secs_f64() * 1e3,
+            "precompute_ms": out.precompute_ms,
+            "lut_source": out.lut_source,
+            "geometry_ms": out.geometry_ms,
+            "sky_view_ms": out.sky_view_ms,
+            "write_ms": write_ms,
+            "ev100": ev,
+            "time_utc": format_utc(&state.utc),
+            "sun": {
+                "alt_deg": state.sun.alt_deg,
+                "alt_refracted_deg": state.sun.alt_refracted_deg,
+                "az_deg": state.sun.az_deg,
+                "distance_km": state.sun.distance_km,
+                "semidiameter_deg": state.sun.angular_radius.to_degrees(),
+                "illuminance_lux": state.sun.illuminance_lux,
+            },
+        });
+        let text =
+            serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
+        std::fs::write(path, text + "\n")
+            .map_err(|e| CliError::other(format!("--stats {}: {e}", path.display())))?;
+    }
+    Ok(())
+}
+
+/// `himmel scene-template`: prints the complete default scene.
+pub fn template() -> Result<(), CliError> {
+    println!("{}", Scene::template_json());
+    Ok(())
+}

@@ -1,0 +1,212 @@
+//! `himmel render` / `himmel scene-template` from the outside: exit codes
+//! and one-line errors that name the flag or field.
+
+use std::process::Command;
+
+fn himmel(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_himmel"))
+        .args(args)
+        .env("HIMMEL_CACHE_DIR", "")
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> String {
+    std::env::temp_dir()
+        .join(format!("himmel-cli-{}-{name}", std::process::id()))
+        .to_string_lossy()
+        .into_owned()
+}
+
+const BASE: [&str; 6] = [
+    "--time",
+    "2024-06-21T19:00:00Z",
+    "--lat",
+    "-33.9",
+    "--lon",
+    "-70.6",
+];
+
+fn render(extra: &[&str]) -> (i32, String, String) {
+    let mut a = vec!["render"];
+    a.extend_from_slice(&BASE);
+    a.extend_from_slice(extra);
+    himmel(&a)
+}
+
+#[test]
+fn bad_input_exits_2_naming_the_flag() {
+    let out = tmp("bad.png");
+    let cases: [(&[&str], &str); 6] = [
+        (&["--fov", "0"], "--fov"),
+        (&["--fov", "200"], "--fov"),
+        (&["--width", "0"], "--width"),
+        (&["--width", "100000", "--height", "100000"], "--width"),
+        (&["--effects", "atmosphere,rainbow"], "rainbow"),
+        (&["--exposure", "bright"], "--exposure"),
+    ];
+    for (extra, needle) in cases {
+        let mut a: Vec<&str> = extra.to_vec();
+        a.extend_from_slice(&["--output", &out]);
+        let (code, _, err) = render(&a);
+        assert_eq!(code, 2, "{extra:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.starts_with("error:") && err.contains(needle),
+            "{extra:?}: {err}"
+        );
+    }
+}
+
+#[test]
+fn scene_file_errors_name_the_field() {
+    let out = tmp("scene.png");
+    let f = tmp("unknown.json");
+    std::fs::write(&f, r#"{"camera": {"fvo": 50}}"#).unwrap();
+    let (code, _, err) = render(&["--scene", &f, "--output", &out]);
+    assert_eq!(code, 2);
+    assert!(err.contains("fvo") && err.contains("--scene"), "{err}");
+    std::fs::write(&f, r#"{"camera": {"width": "wide"}}"#).unwrap();
+    let (code, _, err) = render(&["--scene", &f, "--output", &out]);
+    assert_eq!(code, 2);
+    assert!(err.contains("invalid type"), "{err}");
+    let _ = std::fs::remove_file(&f);
+}
+
+#[test]
+fn template_is_a_complete_scene_and_renders_with_stats() {
+    let (code, tpl, _) = himmel(&["scene-template"]);
+    assert_eq!(code, 0);
+    let f = tmp("tpl.json");
+    // Small image via the scene file; negative numbers in separated form.
+    let mut v: serde_json::Value = serde_json::from_str(&tpl).unwrap();
+    v["camera"]["width"] = 96.into();
+    v["camera"]["height"] = 64.into();
+    v["lut"]["multiscatter_n"] = 8.into();
+    std::fs::write(&f, v.to_string()).unwrap();
+    let png = tmp("t.png");
+    let stats = tmp("t.json");
+    let (code, _, err) = render(&[
+        "--scene",
+        &f,
+        "--effects",
+        "atmosphere",
+        "--projection",
+        "perspective",
+        "--yaw",
+        "-10",
+        "--pitch",
+        "5",
+        "--exposure",
+        "-4",
+        "--stats",
+        &stats,
+        "--output",
+        &png,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(s["backend"], "cpu");
+    assert_eq!(s["width"], 96);
+    let passes = s["passes"].as_array().unwrap();
+    assert_eq!(passes.len(), 7);
+    for p in passes {
+        let ran = p["ran"].as_bool().unwrap();
+        assert_eq!(ran, p["name"] == "atmosphere");
+        if !ran {
+            assert!(p["reason"].as_str().is_some());
+        }
+    }
+    assert!(std::fs::metadata(&png).unwrap().len() > 100);
+    for p in [f, png, stats] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+#[test]
+fn wgpu_backend_is_unavailable_exit_3() {
+    let (code, _, err) = render(&["--backend", "wgpu", "--output", &tmp("g.png")]);
+    assert_eq!(code, 3);
+    assert!(err.contains("--backend cpu"), "{err}");
+}
+
+#[test]
+fn sun_disk_in_equirect_exr_matches_ephemeris_and_solar_illuminance() {
+    let exr = tmp("sun.exr");
+    let t = "2024-03-20T15:00:00Z";
+    let (code, _, err) = himmel(&[
+        "render",
+        "--time",
+        t,
+        "--lat",
+        "-33.9",
+        "--lon",
+        "-70.6",
+        "--projection",
+        "equirect",
+        "--width",
+        "2048",
+        "--height",
+        "1024",
+        "--effects",
+        "sun",
+        "--output",
+        &exr,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (w, h, px) = himmel_cpu::output::read_exr(std::path::Path::new(&exr)).unwrap();
+    let _ = std::fs::remove_file(&exr);
+    let (wf, hf) = (w as f64, h as f64);
+    let (mut e, mut cx, mut cy) = (0.0f64, 0.0f64, 0.0f64);
+    for (i, p) in px.iter().enumerate() {
+        let y = (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) as f64;
+        if y <= 0.0 {
+            continue;
+        }
+        let (x, row) = ((i % w) as f64, (i / w) as f64);
+        let top = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * row / hf;
+        let bot = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * (row + 1.0) / hf;
+        let omega = std::f64::consts::TAU / wf * (top.sin() - bot.sin());
+        e += y * omega;
+        cx += y * omega * (x + 0.5);
+        cy += y * omega * (row + 0.5);
+    }
+    let (cx, cy) = (cx / e, cy / e);
+    // The refracted apparent place from `himmel ephemeris`.
+    let (code, json, err) = himmel(&[
+        "ephemeris",
+        "--time",
+        t,
+        "--lat",
+        "-33.9",
+        "--lon",
+        "-70.6",
+        "--body",
+        "sun",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let v: serde_json::Value = serde_json::from_str(&json).unwrap();
+    let sun = &v["bodies"]["sun"];
+    let alt = sun["alt_refracted_deg"].as_f64().unwrap();
+    let az = sun["az_deg"].as_f64().unwrap();
+    let (sx, sy) = (az / 360.0 * wf, (90.0 - alt) / 180.0 * hf);
+    assert!(
+        (cx - sx).hypot(cy - sy) < 1.0,
+        "disk at {cx},{cy}, ephemeris {sx},{sy}"
+    );
+    // Solar illuminance at the Sun's distance (127 klx at 1 AU for the
+    // model spectrum; ≈ 128 klx in the literature), within 2 %.
+    let d_au = sun["distance_km"].as_f64().unwrap() / 149_597_870.7;
+    let want =
+        himmel_skymodel::spectrum::BandWeights::solar().solar_illuminance_lux() / (d_au * d_au);
+    assert!((e / want - 1.0).abs() < 0.02, "{e} lx vs {want} lx");
+    assert!((120_000.0..136_000.0).contains(&want));
+}

@@ -1,0 +1,313 @@
+//! The camera model that turns absolute linear radiance (cd/m²) into a
+//! display image: night vision → exposure → tone curve → sRGB → dither.
+//!
+//! * **Metering** (`exposure: "auto"`): the geometric mean luminance L̄ of
+//!   the image pixels that show sky or ground (black outside-of-projection
+//!   pixels excluded), EV100 = log2(L̄ · S / K) with S = 100, K = 12.5
+//!   (ISO 2720 reflected-light calibration), clamped to [−6, 18] so that a
+//!   moonless night stays dark instead of being lifted to grey.
+//! * **Exposure**: H = L / (1.2 · 2^EV100) (saturation-based sensitivity,
+//!   ISO 12232; Lagarde & de Rousiers 2014, "Moving Frostbite to PBR", §4.4).
+//! * **Night vision** (only here, never in the physics): scotopic luminance
+//!   V = Y (1.33 (1 + (Y + Z)/X) − 1.68) (Larson, Rushmeier & Piatko 1997,
+//!   eq. 2); a mesopic weight s = smoothstep(log10 Y; −2, 0.5) blends the
+//!   photopic colour (s = 1, above ≈ 3 cd/m²) with a desaturated, blue-shifted
+//!   rod image V · (0.85, 0.97, 1.35) (s = 0, below 0.01 cd/m²), following
+//!   Jensen et al. 2000, "Night rendering", §4.
+//! * **Tone curve**: the ACES filmic fit of Narkowicz (2015),
+//!   f(x) = x (2.51 x + 0.03) / (x (2.43 x + 0.59) + 0.14), clamped to [0, 1].
+//! * **Encoding**: sRGB transfer function (IEC 61966-2-1), then 8-bit
+//!   quantisation with an 8×8 ordered (Bayer) dither against banding.
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use crate::spectrum::{linear_srgb_to_xyz, luminance};
+
+/// Exposure: automatic metering or a fixed EV100.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub enum Exposure {
+    /// Metered from the image (see the module documentation).
+    #[default]
+    Auto,
+    /// Fixed exposure value at ISO 100.
+    Ev100(f64),
+}
+
+impl Exposure {
+    /// Parses `auto` or a number.
+    pub fn parse(s: &str) -> Option<Self> {
+        let t = s.trim();
+        if t.eq_ignore_ascii_case("auto") {
+            return Some(Exposure::Auto);
+        }
+        t.parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite() && (-30.0..=40.0).contains(v))
+            .map(Exposure::Ev100)
+    }
+}
+
+impl Serialize for Exposure {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        match self {
+            Exposure::Auto => s.serialize_str("auto"),
+            Exposure::Ev100(v) => s.serialize_f64(*v),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for Exposure {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        struct V;
+        impl serde::de::Visitor<'_> for V {
+            type Value = Exposure;
+            fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+                f.write_str("\"auto\" or an EV100 number in [-30, 40]")
+            }
+            fn visit_str<E: serde::de::Error>(self, v: &str) -> Result<Exposure, E> {
+                if v.eq_ignore_ascii_case("auto") {
+                    Ok(Exposure::Auto)
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Str(v), &self))
+                }
+            }
+            fn visit_f64<E: serde::de::Error>(self, v: f64) -> Result<Exposure, E> {
+                if v.is_finite() && (-30.0..=40.0).contains(&v) {
+                    Ok(Exposure::Ev100(v))
+                } else {
+                    Err(E::invalid_value(serde::de::Unexpected::Float(v), &self))
+                }
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> Result<Exposure, E> {
+                self.visit_f64(v as f64)
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<Exposure, E> {
+                self.visit_f64(v as f64)
+            }
+        }
+        d.deserialize_any(V)
+    }
+}
+
+/// Lowest and highest EV100 that auto exposure chooses.
+pub const AUTO_EV_RANGE: (f64, f64) = (-6.0, 18.0);
+
+/// EV100 metered from linear sRGB pixels (cd/m²); `valid` marks pixels
+/// that show the scene.
+pub fn meter_ev100(pixels: &[[f32; 3]], valid: &[bool]) -> f64 {
+    let mut sum = 0.0f64;
+    let mut n = 0usize;
+    for (p, &v) in pixels.iter().zip(valid) {
+        if v {
+            sum += (luminance(*p).max(1e-9) as f64).ln();
+            n += 1;
+        }
+    }
+    let mean = if n > 0 { (sum / n as f64).exp() } else { 1e-9 };
+    (mean * 100.0 / 12.5)
+        .log2()
+        .clamp(AUTO_EV_RANGE.0, AUTO_EV_RANGE.1)
+}
+
+/// Scotopic luminance of linear sRGB (Larson et al. 1997, eq. 2).
+pub fn scotopic_luminance(rgb: [f32; 3]) -> f32 {
+    let [x, y, z] = linear_srgb_to_xyz([rgb[0] as f64, rgb[1] as f64, rgb[2] as f64]);
+    if x <= 0.0 || y <= 0.0 {
+        return y.max(0.0) as f32;
+    }
+    (y * (1.33 * (1.0 + (y + z) / x) - 1.68)).max(0.0) as f32
+}
+
+/// Night vision: the mesopic blend of photopic colour and the rod image.
+pub fn night_vision(rgb: [f32; 3]) -> [f32; 3] {
+    let y = luminance(rgb);
+    let l = (y.max(1e-12)).log10();
+    let t = ((l + 2.0) / 2.5).clamp(0.0, 1.0);
+    let s = t * t * (3.0 - 2.0 * t);
+    if s >= 1.0 {
+        return rgb;
+    }
+    let v = scotopic_luminance(rgb);
+    // Blue-shifted rod tint with unit luminance.
+    const TINT: [f32; 3] = [0.85, 0.97, 1.35];
+    let tl = luminance(TINT);
+    let mut out = [0.0; 3];
+    for k in 0..3 {
+        out[k] = s * rgb[k] + (1.0 - s) * v * TINT[k] / tl;
+    }
+    out
+}
+
+/// The ACES filmic tone curve fit of Narkowicz (2015).
+#[inline]
+pub fn aces_filmic(x: f32) -> f32 {
+    // The curve tends to 1.033 and is clamped; large inputs are capped
+    // before squaring so that they cannot overflow.
+    let x = x.clamp(0.0, 1e4);
+    (x * (2.51 * x + 0.03) / (x * (2.43 * x + 0.59) + 0.14)).clamp(0.0, 1.0)
+}
+
+/// The sRGB transfer function (IEC 61966-2-1).
+#[inline]
+pub fn srgb_encode(x: f32) -> f32 {
+    if x <= 0.003_130_8 {
+        12.92 * x
+    } else {
+        1.055 * x.powf(1.0 / 2.4) - 0.055
+    }
+}
+
+/// 8×8 Bayer matrix.
+const BAYER8: [[u8; 8]; 8] = [
+    [0, 32, 8, 40, 2, 34, 10, 42],
+    [48, 16, 56, 24, 50, 18, 58, 26],
+    [12, 44, 4, 36, 14, 46, 6, 38],
+    [60, 28, 52, 20, 62, 30, 54, 22],
+    [3, 35, 11, 43, 1, 33, 9, 41],
+    [51, 19, 59, 27, 49, 17, 57, 25],
+    [15, 47, 7, 39, 13, 45, 5, 37],
+    [63, 31, 55, 23, 61, 29, 53, 21],
+];
+
+/// Camera settings applied by [`develop`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraSettings {
+    /// Exposure.
+    pub exposure: Exposure,
+    /// Night vision on/off.
+    pub night_vision: bool,
+    /// Ordered dithering on/off.
+    pub dither: bool,
+}
+
+/// The EV100 the settings choose for an image (metered or fixed).
+pub fn exposure_ev100(pixels: &[[f32; 3]], valid: &[bool], settings: &CameraSettings) -> f64 {
+    match settings.exposure {
+        Exposure::Auto => meter_ev100(pixels, valid),
+        Exposure::Ev100(v) => v,
+    }
+}
+
+/// Exposure scale of an EV100: H = L / (1.2 · 2^EV100).
+pub fn exposure_scale(ev100: f64) -> f32 {
+    (1.0 / (1.2 * 2f64.powf(ev100))) as f32
+}
+
+/// Develops one pixel (linear sRGB, cd/m²) at image position (x, y) with
+/// exposure scale `k` into 8-bit sRGB.
+#[inline]
+pub fn develop_pixel(
+    rgb: [f32; 3],
+    x: usize,
+    y: usize,
+    k: f32,
+    settings: &CameraSettings,
+) -> [u8; 3] {
+    let rgb = if settings.night_vision {
+        night_vision(rgb)
+    } else {
+        rgb
+    };
+    let d = if settings.dither {
+        (BAYER8[y & 7][x & 7] as f32 + 0.5) / 64.0
+    } else {
+        0.5
+    };
+    let mut out = [0u8; 3];
+    for c in 0..3 {
+        let v = srgb_encode(aces_filmic(rgb[c] * k));
+        out[c] = (v * 255.0 + d).floor().clamp(0.0, 255.0) as u8;
+    }
+    out
+}
+
+/// Develops an HDR image (linear sRGB, cd/m²) into 8-bit sRGB; returns the
+/// pixels (RGB, row-major; black where not `valid`) and the EV100 used.
+pub fn develop(
+    width: usize,
+    pixels: &[[f32; 3]],
+    valid: &[bool],
+    settings: &CameraSettings,
+) -> (Vec<u8>, f64) {
+    let ev = exposure_ev100(pixels, valid, settings);
+    let k = exposure_scale(ev);
+    let mut out = vec![0u8; pixels.len() * 3];
+    for (i, p) in pixels.iter().enumerate() {
+        if valid[i] {
+            let (x, y) = (i % width.max(1), i / width.max(1));
+            out[i * 3..i * 3 + 3].copy_from_slice(&develop_pixel(*p, x, y, k, settings));
+        }
+    }
+    (out, ev)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn exposure_serde_and_parse() {
+        assert_eq!(Exposure::parse("auto"), Some(Exposure::Auto));
+        assert_eq!(Exposure::parse("-4"), Some(Exposure::Ev100(-4.0)));
+        assert_eq!(Exposure::parse("x"), None);
+        let j = serde_json::to_string(&Exposure::Ev100(12.5)).unwrap();
+        assert_eq!(
+            serde_json::from_str::<Exposure>(&j).unwrap(),
+            Exposure::Ev100(12.5)
+        );
+        assert_eq!(
+            serde_json::from_str::<Exposure>("\"auto\"").unwrap(),
+            Exposure::Auto
+        );
+        assert!(serde_json::from_str::<Exposure>("\"bright\"").is_err());
+        assert!(serde_json::from_str::<Exposure>("true").is_err());
+    }
+
+    #[test]
+    fn metering_maps_average_to_its_ev() {
+        // A uniform 1000 cd/m² field meters at log2(1000 · 8) ≈ 12.97.
+        let px = vec![[1000.0f32; 3]; 16];
+        let ev = meter_ev100(&px, &[true; 16]);
+        assert!((ev - (8000f64).log2()).abs() < 1e-3, "{ev}");
+        // Darkness is clamped.
+        let px = vec![[1e-6f32; 3]; 4];
+        assert_eq!(meter_ev100(&px, &[true; 4]), AUTO_EV_RANGE.0);
+    }
+
+    #[test]
+    fn tone_curve_and_encoding_are_monotonic_and_bounded() {
+        let mut prev = -1.0;
+        for i in 0..1000 {
+            let x = i as f32 * 0.01;
+            let y = srgb_encode(aces_filmic(x));
+            assert!((0.0..=1.0).contains(&y) && y >= prev);
+            prev = y;
+        }
+        assert_eq!(aces_filmic(f32::INFINITY.min(1e30)), 1.0);
+    }
+
+    #[test]
+    fn night_vision_desaturates_only_in_the_dark() {
+        let day = [800.0, 900.0, 1200.0];
+        assert_eq!(night_vision(day), day);
+        let dark = [0.002f32, 0.001, 0.0005];
+        let n = night_vision(dark);
+        // Blue shift: the rod image is bluer than the input.
+        assert!(n[2] > n[0]);
+    }
+
+    #[test]
+    fn dither_spreads_quantisation() {
+        // A flat field between two 8-bit levels produces both levels.
+        let px = vec![[0.2f32; 3]; 64];
+        let s = CameraSettings {
+            exposure: Exposure::Ev100(-2.0),
+            night_vision: false,
+            dither: true,
+        };
+        let (out, _) = develop(8, &px, &[true; 64], &s);
+        let min = out.iter().min().unwrap();
+        let max = out.iter().max().unwrap();
+        assert_eq!(max - min, 1);
+    }
+}

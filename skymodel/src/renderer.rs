@@ -1,0 +1,83 @@
+//! The `SkyRenderer` trait both backends implement, and its image and
+//! statistics types.
+
+use serde::Serialize;
+
+use crate::scene::Scene;
+use crate::state::SkyState;
+
+/// A linear HDR image: linear sRGB, cd/m² (conventions.md, Photometry).
+#[derive(Debug, Clone, PartialEq)]
+pub struct HdrImage {
+    /// Width, pixels.
+    pub width: usize,
+    /// Height, pixels.
+    pub height: usize,
+    /// Row-major pixels.
+    pub pixels: Vec<[f32; 3]>,
+    /// Whether a pixel shows the scene (false outside the fisheye circle).
+    pub valid: Vec<bool>,
+}
+
+/// What a pass did.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PassStat {
+    /// Pass name (the effect name).
+    pub name: String,
+    /// Whether it ran.
+    pub ran: bool,
+    /// Milliseconds spent, when it ran.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ms: Option<f64>,
+    /// Why it did not run.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub reason: Option<String>,
+}
+
+/// A rendered frame with its statistics.
+#[derive(Debug, Clone)]
+pub struct RenderOutput {
+    /// The HDR image.
+    pub image: HdrImage,
+    /// One entry per effect, back to front.
+    pub passes: Vec<PassStat>,
+    /// Time spent on (or loading) the parameter-dependent LUTs, ms.
+    pub precompute_ms: f64,
+    /// Where the LUTs came from: `computed`, `disk-cache`, `memory`, or `none`.
+    pub lut_source: &'static str,
+    /// Time spent on the per-pixel view directions, ms.
+    pub geometry_ms: f64,
+    /// Time spent on the per-frame sky-view LUT (part of the atmosphere pass), ms.
+    pub sky_view_ms: f64,
+}
+
+/// A renderer failure.
+#[derive(Debug, Clone, PartialEq)]
+pub enum RenderError {
+    /// The scene is invalid (field, message).
+    Scene(String, String),
+    /// The backend is unavailable.
+    Unavailable(String),
+    /// Anything else.
+    Other(String),
+}
+
+impl std::fmt::Display for RenderError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            RenderError::Scene(field, m) => write!(f, "{field}: {m}"),
+            RenderError::Unavailable(m) | RenderError::Other(m) => f.write_str(m),
+        }
+    }
+}
+
+impl std::error::Error for RenderError {}
+
+/// A sky renderer (CPU or GPU): renders the passes that `state` plans for
+/// `scene` into an absolute linear HDR image.
+pub trait SkyRenderer {
+    /// Backend name as reported in `--stats` (`cpu`, `wgpu`).
+    fn name(&self) -> &'static str;
+    /// Renders one frame.
+    fn render(&mut self, scene: &Scene, state: &SkyState) -> Result<RenderOutput, RenderError>;
+}

@@ -1,0 +1,151 @@
+//! The Sun's disk: true angular size (× `sun_scale`), wavelength-dependent
+//! limb darkening, and a radiance normalised so that the disk's integrated
+//! illuminance equals the extraterrestrial solar illuminance at the Sun's
+//! distance (times the atmospheric transmittance when the atmosphere is on).
+//!
+//! Limb darkening: I(μ)/I(1) = μ^α(λ) with α(λ) = −0.023 + 0.292 / (λ in µm)
+//! (Hestroffer & Magnan 1998, A&A 333, 338, eq. 4, fitted to Neckel & Labs
+//! 1994), μ = cos of the angle between the line of sight and the solar
+//! surface normal. A larger `sun_scale` enlarges the disk and lowers its
+//! radiance so that the illuminance stays the physical one.
+
+use glam::Vec3;
+
+use crate::spectrum::{band_centre_nm, BandWeights, Spectrum, BANDS};
+use crate::units::Radians;
+
+/// Limb-darkening exponent α(λ) of Hestroffer & Magnan (1998).
+pub fn limb_darkening_alpha(nm: f64) -> f64 {
+    -0.023 + 0.292 / (nm / 1000.0)
+}
+
+/// A Sun disk ready to shade.
+#[derive(Debug, Clone)]
+pub struct SunDisk {
+    /// Centre direction (ENU, unit, apparent/refracted).
+    pub centre: Vec3,
+    /// Drawn angular radius, radians.
+    pub radius: f32,
+    cos_radius: f32,
+    sin_radius: f32,
+    /// Centre radiance per band, per unit solar irradiance at 1 AU (sr⁻¹),
+    /// already scaled by (1 AU / distance)².
+    centre_radiance: Spectrum,
+    alpha: [f32; BANDS],
+    weights: BandWeights,
+}
+
+impl SunDisk {
+    /// A disk at `centre` (ENU unit vector) with angular radius `radius`
+    /// (drawn), carrying the solar irradiance × `irradiance_scale` (relative to 1 AU).
+    pub fn new(centre: Vec3, radius: Radians, irradiance_scale: f64) -> Self {
+        let radius = radius.clamp(1e-6, 0.5);
+        let mut alpha = [0.0f32; BANDS];
+        let mut centre_radiance = Spectrum::ZERO;
+        // ∫ I dΩ over the cap with I = I0 μ^α, μ = sqrt(1 − (sin γ / sin R)²).
+        let n = 2000;
+        let sr = radius.sin();
+        for b in 0..BANDS {
+            let a = limb_darkening_alpha(band_centre_nm(b));
+            alpha[b] = a as f32;
+            let mut integral = 0.0;
+            for i in 0..n {
+                let g0 = radius * i as f64 / n as f64;
+                let g1 = radius * (i + 1) as f64 / n as f64;
+                let g = 0.5 * (g0 + g1);
+                let rho = (g.sin() / sr).min(1.0);
+                let mu = (1.0 - rho * rho).max(0.0).sqrt();
+                integral += mu.powf(a) * std::f64::consts::TAU * (g0.cos() - g1.cos());
+            }
+            centre_radiance.0[b] = (irradiance_scale / integral) as f32;
+        }
+        SunDisk {
+            centre: centre.normalize(),
+            radius: radius as f32,
+            cos_radius: radius.cos() as f32,
+            sin_radius: sr as f32,
+            centre_radiance,
+            alpha,
+            weights: BandWeights::solar(),
+        }
+    }
+
+    /// Whether `dir` (unit) may fall on the disk.
+    #[inline]
+    pub fn covers(&self, dir: Vec3) -> bool {
+        dir.dot(self.centre) >= self.cos_radius
+    }
+
+    /// Band radiance transfer factor (sr⁻¹, relative to the 1 AU solar
+    /// irradiance) of the disk in direction `dir`; zero off the disk.
+    pub fn transfer(&self, dir: Vec3) -> Spectrum {
+        let c = dir.dot(self.centre);
+        if c < self.cos_radius {
+            return Spectrum::ZERO;
+        }
+        let s = dir.cross(self.centre).length();
+        let rho = (s / self.sin_radius).min(1.0);
+        let mu = (1.0 - rho * rho).max(0.0).sqrt();
+        let mut out = self.centre_radiance;
+        for b in 0..BANDS {
+            out.0[b] *= mu.powf(self.alpha[b]);
+        }
+        out
+    }
+
+    /// Linear sRGB radiance (cd/m²) in direction `dir`, after the band
+    /// transmittance `t` along the line of sight.
+    pub fn radiance_rgb(&self, dir: Vec3, t: &Spectrum) -> [f32; 3] {
+        let f = self.transfer(dir) * *t;
+        crate::spectrum::clip_to_gamut(self.weights.to_rgb(&f))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Integrates the disk luminance over a fine grid of directions.
+    fn integrated_lux(d: &SunDisk) -> f64 {
+        let w = BandWeights::solar();
+        let n = 600;
+        let r = d.radius as f64 * 1.2;
+        let (t, b) = (Vec3::X, Vec3::Y);
+        let mut s = 0.0;
+        for i in 0..n {
+            for j in 0..n {
+                let x = -r + 2.0 * r * (i as f64 + 0.5) / n as f64;
+                let y = -r + 2.0 * r * (j as f64 + 0.5) / n as f64;
+                let dir = (Vec3::Z + t * x as f32 + b * y as f32).normalize();
+                let da = (2.0 * r / n as f64).powi(2) / (1.0 + x * x + y * y).powf(1.5);
+                s += w.to_y(&d.transfer(dir)) as f64 * da;
+            }
+        }
+        s
+    }
+
+    #[test]
+    fn disk_illuminance_is_the_solar_illuminance() {
+        let w = BandWeights::solar();
+        for &(radius, scale) in &[(0.004_65f64, 1.0f64), (0.0465, 0.967)] {
+            let d = SunDisk::new(Vec3::Z, radius, scale);
+            let e = integrated_lux(&d);
+            let want = w.solar_illuminance_lux() * scale;
+            assert!((e / want - 1.0).abs() < 0.01, "{e} vs {want}");
+        }
+    }
+
+    #[test]
+    fn limb_is_darker_and_redder() {
+        let d = SunDisk::new(Vec3::Z, 0.004_65, 1.0);
+        let centre = d.radiance_rgb(Vec3::Z, &Spectrum::ONE);
+        let edge_dir = (Vec3::Z + Vec3::X * 0.0046).normalize();
+        let edge = d.radiance_rgb(edge_dir, &Spectrum::ONE);
+        assert!(edge[1] < 0.6 * centre[1]);
+        assert!(edge[0] / edge[2] > centre[0] / centre[2]);
+        // Centre luminance ≈ 2.0e9 cd/m² (measured: ~1.6e9 cd/m² at sea level at noon).
+        let y = crate::spectrum::luminance(centre);
+        assert!((1.5e9..2.6e9).contains(&y), "{y}");
+        assert!(!d.covers((Vec3::Z + Vec3::X * 0.01).normalize()));
+    }
+}
