@@ -14,7 +14,7 @@ use std::path::{Path, PathBuf};
 use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, Lut2, LutConfig};
 use himmel_skymodel::spectrum::{Spectrum, BANDS};
 
-const MAGIC: &[u8; 8] = b"HMLUT003";
+const MAGIC: &[u8; 8] = b"HMLUT004";
 
 /// The default cache directory (see the module documentation), or `None`
 /// when disabled or no home directory is known.

@@ -23,12 +23,17 @@ use himmel_skymodel::spectrum::{luminance, BandWeights};
 
 fn main() {
     // AEROSOL scales the aerosol density (0.05 = the Bruneton/Hillaire demo
-    // atmosphere, aerosol optical depth 0.005).
+    // atmosphere, aerosol optical depth 0.005); AEROSOL_G sets the aerosol
+    // asymmetry parameter.
     let params = AtmosphereParams {
         aerosol_density: std::env::var("AEROSOL")
             .ok()
             .and_then(|p| p.parse().ok())
             .unwrap_or(1.0),
+        aerosol_g: std::env::var("AEROSOL_G")
+            .ok()
+            .and_then(|p| p.parse().ok())
+            .unwrap_or(AtmosphereParams::default().aerosol_g),
         ..AtmosphereParams::default()
     };
     let w = BandWeights::solar();

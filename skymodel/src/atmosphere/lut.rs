@@ -228,7 +228,7 @@ impl AtmosphereLuts {
         let fwd = forward_scattering(medium, cfg);
         let n = cfg.multiscatter_n;
         let dirs = sphere_directions(cfg.multiscatter_dirs);
-        let inv_4pi = 1.0 / (4.0 * std::f32::consts::PI);
+        let cone = cfg.forward_peak_deg.to_radians().cos();
         let v = (j as f32 + 0.5) / n as f32;
         let r = medium.bottom + unit_from_tex(v, n).clamp(0.0, 1.0) * (medium.top - medium.bottom);
         let r = r.clamp(medium.bottom + 1e-3, medium.top - 1e-3);
@@ -242,6 +242,23 @@ impl AtmosphereLuts {
                 let mut fms = Spectrum::ZERO;
                 for d in &dirs {
                     let mu = d.z;
+                    // The first scattering (Sun → p → x) with the true phase
+                    // functions, where Hillaire (2020) takes it isotropic:
+                    // light reaching x from p travels along −d, so cos θ =
+                    // d·sun. With forward-scattering aerosols and a low Sun
+                    // the long paths towards the Sun carry far more
+                    // second-order light than the isotropic form gives
+                    // (measured against the reference: Sun +10° median error
+                    // 6.2 % → 4.5 %, Sun 0° p95 18 % → 12 %). Inside the
+                    // δ-scaled cone the aerosol phase function is flattened,
+                    // as in [`SkyView::transfer`].
+                    let cos_theta = d.dot(sun);
+                    let pr = rayleigh_phase(cos_theta);
+                    let pm = if cfg.forward_peak_deg > 0.0 && cos_theta > cone {
+                        cornette_shanks_phase(medium.g, cone)
+                    } else {
+                        cornette_shanks_phase(medium.g, cos_theta)
+                    };
                     let ground = medium.hits_ground(r, mu);
                     let t_max = if ground {
                         medium.distance_to_bottom(r, mu)
@@ -266,7 +283,7 @@ impl AtmosphereLuts {
                         let seg = (ext * dt).exp_neg();
                         // ∫ e^{-σt} over the step, divided by σ (safe at σ → 0).
                         let integ = integrate_segment(ext, seg, dt);
-                        l += tv * ss * tsun * inv_4pi * integ;
+                        l += tv * (sr * pr + sm * pm) * tsun * integ;
                         f += tv * ss * integ;
                         tv *= seg;
                     }
