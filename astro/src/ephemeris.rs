@@ -668,9 +668,8 @@ mod tests {
         for k in 0..500 {
             let t = Instant::from_tt(J2000 - 20_000.0 + f64::from(k) * 80.1);
             let low = Tiered(Precision::Low);
-            let a = low
-                .apparent(Body::Moon, &Epoch::new(&t, NutationModel::Short))
-                .unwrap();
+            let short = Epoch::new(&t, NutationModel::Short);
+            let a = low.apparent(Body::Moon, &short).unwrap();
             let b = low
                 .apparent(Body::Moon, &Epoch::new(&t, NutationModel::Iau1980))
                 .unwrap();
@@ -681,20 +680,11 @@ mod tests {
             assert!((a.dec - b.dec).abs() < 1.0 * ARCSEC, "{k}");
             // And the vector form agrees with the series' own λ, β.
             let (lon, lat, dist) = moon::low(t.centuries_tt());
-            let c = Apparent::from_ecliptic(
-                lon + b_dpsi(&t),
-                lat,
-                dist,
-                &Epoch::new(&t, NutationModel::Short),
-            );
+            let c = Apparent::from_ecliptic(lon + short.nutation.dpsi, lat, dist, &short);
             assert!(
                 wrap_pi(a.ra - c.ra).abs() < 1e-6 && (a.dec - c.dec).abs() < 1e-6,
                 "{k}"
             );
         }
-    }
-
-    fn b_dpsi(t: &Instant) -> f64 {
-        Epoch::new(t, NutationModel::Short).nutation.dpsi
     }
 }

@@ -24,14 +24,15 @@
 //! use himmel_astro::frames::NutationModel;
 //! // Sirius, Hipparcos new reduction (epoch J1991.25)
 //! let sirius = Astrometry::new(1.7678185359, -0.2916993748, -546.01, -1223.07, 379.21, 0.0,
-//!     Astrometry::J1991_25).unwrap();
+//!     Astrometry::J1991_25)?;
 //! let epoch = Epoch::new(&Instant::from_tt(2_460_000.5), NutationModel::Iau1980);
 //! let red = StarReduction::new(&epoch);
 //! let app = red.apparent(&sirius);
 //! assert!((app.ra_deg() - 101.4).abs() < 0.3 && (app.dec_deg() + 16.74).abs() < 0.1);
-//! let here = Observer::new(48.1, 11.6, 520.0).unwrap();
+//! let here = Observer::new(48.1, 11.6, 520.0)?;
 //! let topo = red.topocentric(&sirius, &here);
 //! assert!(topo.alt_deg().is_finite());
+//! # Ok::<(), himmel_astro::AstroError>(())
 //! ```
 
 use glam::{DMat3, DVec3};

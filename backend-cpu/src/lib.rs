@@ -153,34 +153,32 @@ impl CpuRenderer {
         params: &AtmosphereParams,
         config: &LutConfig,
     ) -> (&AtmosphereLuts, &'static str) {
-        let fresh = match &self.luts {
-            Some(l) => l.params != *params || l.config != *config,
-            None => true,
-        };
         let mut source = "memory";
-        if fresh {
-            let loaded = self
-                .cache_dir
-                .as_ref()
-                .and_then(|d| cache::load(d, params, config));
-            let l = match loaded {
-                Some(l) => {
-                    source = "disk-cache";
-                    l
-                }
-                None => {
-                    source = "computed";
-                    let l = precompute(params, config, self.progress);
-                    if let Some(d) = &self.cache_dir {
-                        // A cache that cannot be written only costs time next run.
-                        let _ = cache::store(d, &l);
+        let luts = match self.luts.take() {
+            Some(l) if l.params == *params && l.config == *config => l,
+            _ => {
+                let loaded = self
+                    .cache_dir
+                    .as_ref()
+                    .and_then(|d| cache::load(d, params, config));
+                match loaded {
+                    Some(l) => {
+                        source = "disk-cache";
+                        l
                     }
-                    l
+                    None => {
+                        source = "computed";
+                        let l = precompute(params, config, self.progress);
+                        if let Some(d) = &self.cache_dir {
+                            // A cache that cannot be written only costs time next run.
+                            let _ = cache::store(d, &l);
+                        }
+                        l
+                    }
                 }
-            };
-            self.luts = Some(l);
-        }
-        (self.luts.as_ref().expect("set above"), source)
+            }
+        };
+        (&*self.luts.insert(luts), source)
     }
 }
 

@@ -9,10 +9,11 @@
 //!
 //! ```
 //! use himmel_catalog::Catalog;
-//! let cat = Catalog::embedded().unwrap();
-//! let sirius = cat.by_name("Sirius").unwrap();
+//! let cat = Catalog::embedded()?;
+//! let sirius = cat.by_name("Sirius").ok_or("Sirius is missing")?;
 //! assert_eq!(sirius.hip, 32349);
 //! assert!(cat.brighter_than(6.5).len() >= 8800);
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 //!
 //! Apparent places come from [`himmel_astro::stars`]: exact per star

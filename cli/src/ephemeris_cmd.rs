@@ -7,6 +7,7 @@ use himmel_astro::units::{DEG, KM_PER_AU, MOON_RADIUS_KM, SUN_RADIUS_KM};
 use himmel_astro::{Body, Instant, Observer, Precision, Sky, UtcDateTime};
 use serde_json::{json, Map, Value};
 
+use crate::common;
 use crate::timearg::{format_utc, now, parse_rfc3339};
 use crate::{CliError, Format};
 
@@ -37,19 +38,6 @@ pub struct EphemerisArgs {
     /// Output format.
     #[arg(long, value_enum, default_value_t = Format::Table)]
     format: Format,
-}
-
-/// Checks a finite value against a range, naming the flag in the error.
-fn check(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, String> {
-    if !v.is_finite() {
-        Err(format!(
-            "{flag} {v} is not a finite number; expected a value in [{min}, {max}]"
-        ))
-    } else if v < min || v > max {
-        Err(format!("{flag} {v} is outside [{min}, {max}]"))
-    } else {
-        Ok(v)
-    }
 }
 
 /// Parses `--body`.
@@ -99,10 +87,7 @@ struct Request {
 
 fn request(time: &str, lat: f64, lon: f64, elevation: f64) -> Result<Request, String> {
     let utc = parse_time(time)?;
-    let lat = check("--lat", lat, -90.0, 90.0)?;
-    let lon = check("--lon", lon, -360.0, 360.0)?;
-    let elevation = check("--elevation", elevation, -12_000.0, 100_000.0)?;
-    let observer = Observer::new(lat, lon, elevation).map_err(|e| e.to_string())?;
+    let observer = common::observer(lat, lon, elevation)?;
     Ok(Request { utc, observer })
 }
 
@@ -115,12 +100,8 @@ pub fn run(args: &EphemerisArgs) -> Result<(), CliError> {
     let time = args.time.as_deref().ok_or_else(|| {
         CliError::input("--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)")
     })?;
-    let lat = args
-        .lat
-        .ok_or_else(|| CliError::input("--lat is required (degrees in [-90, 90])"))?;
-    let lon = args
-        .lon
-        .ok_or_else(|| CliError::input("--lon is required (degrees east in [-180, 180])"))?;
+    let lat = common::required("--lat", args.lat, "degrees in [-90, 90]")?;
+    let lon = common::required("--lon", args.lon, "degrees east in [-180, 180]")?;
     let req = request(time, lat, lon, args.elevation).map_err(CliError::input)?;
     let doc = compute(&req, &bodies, precision).map_err(CliError::input)?;
     let mut out = std::io::stdout().lock();

@@ -9,9 +9,10 @@ use himmel_astro::events::phases::phases;
 use himmel_astro::events::riseset::rise_set_transit;
 use himmel_astro::events::solar_eclipse::{local_solar_eclipses, solar_eclipses};
 use himmel_astro::events::{MAX_SEARCH_DAYS, MAX_SEARCH_JD, MIN_SEARCH_JD};
-use himmel_astro::{AstroError, Body, Instant, Observer, Precision, Tiered, UtcDateTime};
+use himmel_astro::{AstroError, Body, Instant, Precision, Tiered, UtcDateTime};
 use serde_json::{json, Value};
 
+use crate::common;
 use crate::ephemeris_cmd::parse_precision;
 use crate::timearg::{format_utc, parse_rfc3339};
 use crate::{CliError, Format};
@@ -135,24 +136,6 @@ fn parse_ymd(flag: &str, s: &str) -> Result<(i32, u8, u8), String> {
     Ok((y as i32, m as u8, d as u8))
 }
 
-/// Checks a finite value against a range, naming the flag.
-fn check(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, CliError> {
-    if v.is_finite() && v >= min && v <= max {
-        Ok(v)
-    } else {
-        Err(CliError::input(format!(
-            "{flag} {v} is outside [{min}, {max}]"
-        )))
-    }
-}
-
-fn observer(lat: f64, lon: f64, elevation: f64) -> Result<Observer, CliError> {
-    let lat = check("--lat", lat, -90.0, 90.0)?;
-    let lon = check("--lon", lon, -360.0, 360.0)?;
-    let elevation = check("--elevation", elevation, -12_000.0, 100_000.0)?;
-    Observer::new(lat, lon, elevation).map_err(|e| CliError::input(e.to_string()))
-}
-
 /// The validated interval as instants.
 fn interval(args: &IntervalArgs) -> Result<(Instant, Instant), CliError> {
     let from = parse_date_or_time("--from", &args.from).map_err(CliError::input)?;
@@ -244,7 +227,7 @@ pub fn run_riseset(args: &RiseSetArgs) -> Result<(), CliError> {
             args.date
         ))
     })?;
-    let obs = observer(args.lat, args.lon, args.elevation)?;
+    let obs = common::observer(args.lat, args.lon, args.elevation).map_err(CliError::input)?;
     let day = rise_set_transit(&eph, body, &obs, y, m, d).map_err(astro)?;
     let events: Vec<Value> = day
         .events()
@@ -376,13 +359,13 @@ pub fn run_eclipses(args: &EclipsesArgs) -> Result<(), CliError> {
             })
         }
         (EclipseKindArg::Solar, true) => {
-            let lat = args.lat.ok_or_else(|| {
-                CliError::input("--lat is required with --local (degrees in [-90, 90])")
-            })?;
-            let lon = args.lon.ok_or_else(|| {
-                CliError::input("--lon is required with --local (degrees east in [-180, 180])")
-            })?;
-            let obs = observer(lat, lon, args.elevation)?;
+            let lat = common::required("--lat", args.lat, "with --local; degrees in [-90, 90]")?;
+            let lon = common::required(
+                "--lon",
+                args.lon,
+                "with --local; degrees east in [-180, 180]",
+            )?;
+            let obs = common::observer(lat, lon, args.elevation).map_err(CliError::input)?;
             let mut rows = Vec::new();
             for e in local_solar_eclipses(eph, &obs, &a, &b).map_err(astro)? {
                 let e = e.map_err(astro)?;

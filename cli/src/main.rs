@@ -4,6 +4,7 @@
 //! project's `spec/cli.md`. Exit codes: 0 success, 2 invalid input,
 //! 3 resource unavailable, 1 other failure. Errors are one line on stderr.
 
+mod common;
 mod ephemeris_cmd;
 mod events_cmd;
 mod render_cmd;

@@ -11,6 +11,7 @@ use himmel_skymodel::scene::parse_effects;
 use himmel_skymodel::{Projection, Scene, SkyRenderer, SkyState};
 use serde_json::json;
 
+use crate::common;
 use crate::ephemeris_cmd::{parse_precision, parse_time};
 use crate::timearg::format_utc;
 use crate::CliError;
@@ -136,14 +137,8 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
                     "--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)",
                 ));
             }
-            if a.lat.is_none() {
-                return Err(CliError::input("--lat is required (degrees in [-90, 90])"));
-            }
-            if a.lon.is_none() {
-                return Err(CliError::input(
-                    "--lon is required (degrees east in [-180, 180])",
-                ));
-            }
+            common::required("--lat", a.lat, "degrees in [-90, 90]")?;
+            common::required("--lon", a.lon, "degrees east in [-180, 180]")?;
             s.time.utc = String::new();
             s
         }
@@ -153,18 +148,10 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
         scene.time.utc = format_utc(&utc);
     }
     if let Some(v) = a.lat {
-        let v = finite("--lat", v)?;
-        if !(-90.0..=90.0).contains(&v) {
-            return Err(CliError::input(format!("--lat {v} is outside [-90, 90]")));
-        }
-        scene.observer.lat_deg = v;
+        scene.observer.lat_deg = common::check_input("--lat", v, -90.0, 90.0)?;
     }
     if let Some(v) = a.lon {
-        let v = finite("--lon", v)?;
-        if !(-360.0..=360.0).contains(&v) {
-            return Err(CliError::input(format!("--lon {v} is outside [-180, 180]")));
-        }
-        scene.observer.lon_deg = v;
+        scene.observer.lon_deg = common::check_input("--lon", v, -360.0, 360.0)?;
     }
     if let Some(v) = a.elevation {
         scene.observer.elevation_m = finite("--elevation", v)?;

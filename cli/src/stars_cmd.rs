@@ -7,10 +7,11 @@ use std::io::Write;
 use clap::Args;
 use himmel_astro::frames::NutationModel;
 use himmel_astro::stars::StarReduction;
-use himmel_astro::{Epoch, Instant, Observer};
+use himmel_astro::{Epoch, Instant};
 use himmel_catalog::Catalog;
 use serde::Serialize;
 
+use crate::common;
 use crate::ephemeris_cmd::parse_time;
 use crate::timearg::format_utc;
 use crate::{CliError, Format};
@@ -54,16 +55,6 @@ struct StarOut<'a> {
     az_deg: f64,
 }
 
-fn check(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, CliError> {
-    if v.is_finite() && v >= min && v <= max {
-        Ok(v)
-    } else {
-        Err(CliError::input(format!(
-            "{flag} {v} is outside [{min}, {max}]"
-        )))
-    }
-}
-
 /// `x` with `decimals` fixed decimals, through integer formatting (Rust's
 /// fixed-precision float formatting is several times slower, and the table
 /// prints 50 000 numbers).
@@ -90,19 +81,11 @@ pub fn run(args: &StarsArgs) -> Result<(), CliError> {
     let time = args.time.as_deref().ok_or_else(|| {
         CliError::input("--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)")
     })?;
-    let lat = args
-        .lat
-        .ok_or_else(|| CliError::input("--lat is required (degrees in [-90, 90])"))?;
-    let lon = args
-        .lon
-        .ok_or_else(|| CliError::input("--lon is required (degrees east in [-180, 180])"))?;
+    let lat = common::required("--lat", args.lat, "degrees in [-90, 90]")?;
+    let lon = common::required("--lon", args.lon, "degrees east in [-180, 180]")?;
     let utc = parse_time(time).map_err(CliError::input)?;
-    let lat = check("--lat", lat, -90.0, 90.0)?;
-    let lon = check("--lon", lon, -360.0, 360.0)?;
-    let elevation = check("--elevation", args.elevation, -12_000.0, 100_000.0)?;
-    let limit = check("--limit-mag", args.limit_mag, -30.0, 30.0)?;
-    let observer =
-        Observer::new(lat, lon, elevation).map_err(|e| CliError::input(e.to_string()))?;
+    let observer = common::observer(lat, lon, args.elevation).map_err(CliError::input)?;
+    let limit = common::check_input("--limit-mag", args.limit_mag, -30.0, 30.0)?;
     let instant = Instant::from_utc(&utc).map_err(|e| CliError::input(format!("--time: {e}")))?;
     let epoch = Epoch::new(&instant, NutationModel::Iau1980);
     let catalog = Catalog::embedded().map_err(|e| CliError::other(e.to_string()))?;

@@ -2,23 +2,10 @@
 //! errors that name the flag, negative numbers in the separated form.
 
 use std::io::Write;
-use std::process::{Command, Output, Stdio};
+mod common;
 
-fn himmel(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_himmel"))
-        .args(args)
-        .output()
-        .expect("run himmel")
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("valid JSON")
-}
+use common::{himmel, json};
+use std::process::{Command, Stdio};
 
 const DALLAS: [&str; 8] = [
     "ephemeris",

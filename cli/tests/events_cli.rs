@@ -2,23 +2,9 @@
 //! spec/cli.md, exit code 2 with a one-line error naming the flag on bad
 //! input.
 
-use std::process::{Command, Output};
+mod common;
 
-fn himmel(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_himmel"))
-        .args(args)
-        .output()
-        .expect("run himmel")
-}
-
-fn json(out: &Output) -> serde_json::Value {
-    assert!(
-        out.status.success(),
-        "stderr: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).expect("valid JSON")
-}
+use common::{himmel, json};
 
 fn keys(v: &serde_json::Value) -> Vec<String> {
     let mut k: Vec<String> = v.as_object().unwrap().keys().cloned().collect();

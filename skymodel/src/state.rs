@@ -2,7 +2,6 @@
 //! apparent (refracted) direction in the horizontal frame, its distance,
 //! angular size and extraterrestrial illuminance, and the pass plan.
 
-use chrono::{Datelike, Timelike};
 use glam::DVec3;
 use himmel_astro::units::{KM_PER_AU, SUN_RADIUS_KM};
 use himmel_astro::{Body, Instant, Observer, Precision, Sky, UtcDateTime};
@@ -73,23 +72,15 @@ pub fn parse_utc(s: &str) -> Result<UtcDateTime, SceneError> {
         field: "time.utc".into(),
         message: m,
     };
-    let t = if s.trim().eq_ignore_ascii_case("now") {
-        chrono::Utc::now()
+    if s.trim().eq_ignore_ascii_case("now") {
+        UtcDateTime::try_from(chrono::Utc::now()).map_err(|e| err(format!("system clock: {e}")))
     } else {
-        chrono::DateTime::parse_from_rfc3339(s.trim())
-            .map_err(|e| err(format!("'{s}' is not an RFC 3339 time ({e}); expected e.g. 2024-04-08T18:42:00Z or now")))?
-            .with_timezone(&chrono::Utc)
-    };
-    let sec = t.second() as f64 + t.nanosecond() as f64 * 1e-9;
-    UtcDateTime::new(
-        t.year(),
-        t.month() as u8,
-        t.day() as u8,
-        t.hour() as u8,
-        t.minute() as u8,
-        sec,
-    )
-    .map_err(|e| err(e.to_string()))
+        himmel_astro::time::parse_rfc3339(s).map_err(|e| {
+            err(format!(
+                "'{s}' is not an RFC 3339 time ({e}); expected e.g. 2024-04-08T18:42:00Z or now"
+            ))
+        })
+    }
 }
 
 impl SkyState {

@@ -1,13 +1,9 @@
 //! Unit-carrying type aliases (names say the unit; values are plain floats).
 
-/// Kilometres.
-pub type Km = f64;
+pub use himmel_astro::units::{Degrees, Km, Radians};
+
 /// Nanometres.
 pub type Nanometres = f64;
-/// Degrees.
-pub type Degrees = f64;
-/// Radians.
-pub type Radians = f64;
 /// Luminance, cd/m².
 pub type CandelaPerM2 = f32;
 /// Illuminance, lux (lm/m²).

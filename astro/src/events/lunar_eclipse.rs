@@ -45,8 +45,8 @@ use crate::error::AstroError;
 use crate::time::Instant;
 use crate::units::*;
 
-use super::phases::{mean_argument_of_latitude, mean_phase_jde, SYNODIC_MONTH};
-use super::{brent_min, brent_root, check_interval, instant_tt};
+use super::phases::{mean_argument_of_latitude, mean_phase_jde, LunationScan};
+use super::{brent_min, brent_root, instant_tt};
 
 /// Danjon's factor on the Moon's parallax: 0.998 340 × (1 + 1/85).
 pub const DANJON_FACTOR: f64 = 0.998_340 * (1.0 + 1.0 / 85.0);
@@ -308,13 +308,7 @@ pub fn lunar_eclipse_of_lunation<E: Ephemeris>(
 /// included; one whose greatest phase is before `to` is, with its later
 /// contacts.
 #[derive(Debug, Clone)]
-pub struct LunarEclipses<E> {
-    eph: E,
-    k: i64,
-    from: JulianDay,
-    to: JulianDay,
-    done: bool,
-}
+pub struct LunarEclipses<E>(LunationScan<E, LunarEclipse>);
 
 /// All lunar eclipses with greatest eclipse in `[from, to)`. Errors: the
 /// interval is reversed or longer than [`super::MAX_SEARCH_DAYS`].
@@ -323,43 +317,17 @@ pub fn lunar_eclipses<E: Ephemeris>(
     from: &Instant,
     to: &Instant,
 ) -> Result<LunarEclipses<E>, AstroError> {
-    let (a, b) = check_interval(from, to)?;
-    Ok(LunarEclipses {
-        eph,
-        k: libm::floor((a - 2_451_550.097_66) / SYNODIC_MONTH) as i64 - 1,
-        from: a,
-        to: b,
-        done: false,
+    LunationScan::new(eph, from, to, 0.5, lunar_eclipse_of_lunation, |e| {
+        e.greatest.jd_tt
     })
+    .map(LunarEclipses)
 }
 
 impl<E: Ephemeris> Iterator for LunarEclipses<E> {
     type Item = Result<LunarEclipse, AstroError>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        while !self.done {
-            let k = self.k;
-            self.k += 1;
-            let jde = mean_phase_jde(k as f64 + 0.5);
-            if jde > self.to + 1.0 {
-                self.done = true;
-                break;
-            }
-            if jde < self.from - 1.0 {
-                continue;
-            }
-            match lunar_eclipse_of_lunation(&self.eph, k) {
-                Ok(Some(e)) => {
-                    let t = e.greatest.jd_tt;
-                    if t >= self.from && t < self.to {
-                        return Some(Ok(e));
-                    }
-                }
-                Ok(None) => {}
-                Err(e) => return Some(Err(e)),
-            }
-        }
-        None
+        self.0.next()
     }
 }
 

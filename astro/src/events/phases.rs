@@ -73,12 +73,21 @@ pub struct PhaseEvent {
 /// Mean synodic month, days (Meeus eq. 49.1).
 pub const SYNODIC_MONTH: f64 = 29.530_588_861;
 
+/// JDE of the mean new Moon of lunation 0 (2000 January 6), Meeus eq. 49.1.
+const LUNATION_ZERO_JDE: JulianDay = 2_451_550.097_66;
+
+/// The (fractional) mean lunation number at TT Julian day `jd`: the inverse
+/// of [`mean_phase_jde`] without its tiny quadratic terms.
+pub(crate) fn mean_lunation(jd: JulianDay) -> f64 {
+    (jd - LUNATION_ZERO_JDE) / SYNODIC_MONTH
+}
+
 /// JDE (TT) of the mean phase with lunation number `k` (integer for new
 /// Moon, +0.25 first quarter, +0.5 full, +0.75 last quarter; k = 0 is the
 /// new Moon of 2000 January 6). Meeus eq. 49.1.
 pub fn mean_phase_jde(k: f64) -> JulianDay {
     let t = k / 1236.85;
-    2_451_550.097_66
+    LUNATION_ZERO_JDE
         + SYNODIC_MONTH * k
         + t * t * (0.000_154_37 + t * (-0.000_000_150 + t * 0.000_000_000_73))
 }
@@ -139,7 +148,7 @@ pub struct Phases<E> {
 /// reversed or longer than [`super::MAX_SEARCH_DAYS`].
 pub fn phases<E: Ephemeris>(eph: E, from: &Instant, to: &Instant) -> Result<Phases<E>, AstroError> {
     let (a, b) = check_interval(from, to)?;
-    let q = libm::floor((a - 2_451_550.097_66) / SYNODIC_MONTH * 4.0) as i64 - 4;
+    let q = libm::floor(mean_lunation(a) * 4.0) as i64 - 4;
     Ok(Phases {
         eph,
         q,
@@ -169,6 +178,82 @@ impl<E: Ephemeris> Iterator for Phases<E> {
                 }
                 Ok(ev) if ev.instant.jd_tt < self.from => {}
                 other => return Some(other),
+            }
+        }
+        None
+    }
+}
+
+/// Walks the lunations around `[from, to)` one by one and yields what a
+/// per-lunation search finds there (an eclipse, at most one per lunation)
+/// whose time lies in the interval, chronologically; allocates nothing.
+/// The engine of [`super::LunarEclipses`] and [`super::GlobalSolarEclipses`].
+#[derive(Debug, Clone)]
+pub(crate) struct LunationScan<E, T> {
+    eph: E,
+    k: i64,
+    from: JulianDay,
+    to: JulianDay,
+    done: bool,
+    /// The phase searched, in lunations after new Moon (0.5: full Moon).
+    phase: f64,
+    search: fn(&E, i64) -> Result<Option<T>, AstroError>,
+    time: fn(&T) -> JulianDay,
+}
+
+impl<E: Ephemeris, T> LunationScan<E, T> {
+    /// A scan of `[from, to)` (checked by [`check_interval`]).
+    pub(crate) fn new(
+        eph: E,
+        from: &Instant,
+        to: &Instant,
+        phase: f64,
+        search: fn(&E, i64) -> Result<Option<T>, AstroError>,
+        time: fn(&T) -> JulianDay,
+    ) -> Result<Self, AstroError> {
+        let (a, b) = check_interval(from, to)?;
+        Ok(LunationScan {
+            eph,
+            k: libm::floor(mean_lunation(a)) as i64 - 1,
+            from: a,
+            to: b,
+            done: false,
+            phase,
+            search,
+            time,
+        })
+    }
+
+    /// The ephemeris the scan searches with.
+    pub(crate) fn ephemeris(&self) -> &E {
+        &self.eph
+    }
+}
+
+impl<E: Ephemeris, T> Iterator for LunationScan<E, T> {
+    type Item = Result<T, AstroError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        while !self.done {
+            let k = self.k;
+            self.k += 1;
+            let jde = mean_phase_jde(k as f64 + self.phase);
+            if jde > self.to + 1.0 {
+                self.done = true;
+                break;
+            }
+            if jde < self.from - 1.0 {
+                continue;
+            }
+            match (self.search)(&self.eph, k) {
+                Ok(Some(e)) => {
+                    let t = (self.time)(&e);
+                    if t >= self.from && t < self.to {
+                        return Some(Ok(e));
+                    }
+                }
+                Ok(None) => {}
+                Err(e) => return Some(Err(e)),
             }
         }
         None

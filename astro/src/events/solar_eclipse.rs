@@ -49,7 +49,7 @@ use crate::observe::Observer;
 use crate::time::Instant;
 use crate::units::*;
 
-use super::phases::{mean_argument_of_latitude, mean_phase_jde, SYNODIC_MONTH};
+use super::phases::{mean_argument_of_latitude, mean_phase_jde, LunationScan};
 use super::riseset::{events_between, DayState, Horizon};
 use super::{brent_min, brent_root, check_interval, instant_tt};
 
@@ -252,13 +252,7 @@ pub fn solar_eclipse_of_lunation<E: Ephemeris>(
 /// Iterator over the solar eclipses with greatest eclipse in `[from, to)`
 /// (made by [`solar_eclipses`]; no allocation).
 #[derive(Debug, Clone)]
-pub struct GlobalSolarEclipses<E> {
-    eph: E,
-    k: i64,
-    from: JulianDay,
-    to: JulianDay,
-    done: bool,
-}
+pub struct GlobalSolarEclipses<E>(LunationScan<E, GlobalSolarEclipse>);
 
 /// All solar eclipses with greatest eclipse in `[from, to)`. Search: every
 /// new Moon of Meeus' mean lunation (eq. 49.1) with |sin F| ≤ 0.40; the axis
@@ -268,43 +262,17 @@ pub fn solar_eclipses<E: Ephemeris>(
     from: &Instant,
     to: &Instant,
 ) -> Result<GlobalSolarEclipses<E>, AstroError> {
-    let (a, b) = check_interval(from, to)?;
-    Ok(GlobalSolarEclipses {
-        eph,
-        k: libm::floor((a - 2_451_550.097_66) / SYNODIC_MONTH) as i64 - 1,
-        from: a,
-        to: b,
-        done: false,
+    LunationScan::new(eph, from, to, 0.0, solar_eclipse_of_lunation, |e| {
+        e.greatest.jd_tt
     })
+    .map(GlobalSolarEclipses)
 }
 
 impl<E: Ephemeris> Iterator for GlobalSolarEclipses<E> {
     type Item = Result<GlobalSolarEclipse, AstroError>;
 
     fn next(&mut self) -> Option<Self::Item> {
-        while !self.done {
-            let k = self.k;
-            self.k += 1;
-            let jde = mean_phase_jde(k as f64);
-            if jde > self.to + 1.0 {
-                self.done = true;
-                break;
-            }
-            if jde < self.from - 1.0 {
-                continue;
-            }
-            match solar_eclipse_of_lunation(&self.eph, k) {
-                Ok(Some(e)) => {
-                    let t = e.greatest.jd_tt;
-                    if t >= self.from && t < self.to {
-                        return Some(Ok(e));
-                    }
-                }
-                Ok(None) => {}
-                Err(e) => return Some(Err(e)),
-            }
-        }
-        None
+        self.0.next()
     }
 }
 
@@ -566,7 +534,7 @@ impl<E: Ephemeris> Iterator for LocalSolarEclipses<E> {
                 Ok(g) => g,
                 Err(e) => return Some(Err(e)),
             };
-            match local_circumstances(&self.global.eph, &self.observer, g.greatest.jd_tt) {
+            match local_circumstances(self.global.0.ephemeris(), &self.observer, g.greatest.jd_tt) {
                 Ok(Some(l)) if l.visible && l.max.jd_tt >= self.from && l.max.jd_tt < self.to => {
                     return Some(Ok(l))
                 }

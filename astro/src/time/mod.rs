@@ -25,6 +25,7 @@ mod delta_t;
 #[allow(clippy::approx_constant)] // ΔT = 6.28 s in 1768 is data, not 2π
 mod delta_t_data;
 mod leap_seconds;
+mod rfc3339;
 mod sidereal;
 
 pub use calendar::{calendar_date, days_in_month, is_leap_year, julian_day};
@@ -33,6 +34,7 @@ pub use delta_t::{
     morrison_stephenson_2004, ut1_minus_utc, JOIN_FADE_YEARS, SEAM_RAMP_YEARS,
 };
 pub use leap_seconds::{tai_minus_utc, JD_UTC_1972};
+pub use rfc3339::{parse_rfc3339, Rfc3339Error};
 pub use sidereal::{gast, gmst};
 
 use crate::error::AstroError;
@@ -64,6 +66,27 @@ pub struct UtcDateTime {
     pub minute: u8,
     /// Second with fraction, [0, 60), or [60, 61) during a leap second.
     pub second: f64,
+}
+
+/// Civil UTC from a `chrono` UTC time (feature `chrono`); chrono's leap
+/// second (nanoseconds ≥ 10⁹) becomes second 60. Errors where the date is
+/// invalid for [`UtcDateTime::new`].
+#[cfg(feature = "chrono")]
+impl TryFrom<chrono::DateTime<chrono::Utc>> for UtcDateTime {
+    type Error = AstroError;
+
+    fn try_from(t: chrono::DateTime<chrono::Utc>) -> Result<Self, AstroError> {
+        use chrono::{Datelike, Timelike};
+        let second = f64::from(t.second()) + f64::from(t.nanosecond()) * 1e-9;
+        UtcDateTime::new(
+            t.year(),
+            t.month() as u8,
+            t.day() as u8,
+            t.hour() as u8,
+            t.minute() as u8,
+            second,
+        )
+    }
 }
 
 impl UtcDateTime {
@@ -529,5 +552,22 @@ mod tests {
             let dut = (q.jd_ut1 - p.jd_ut1) * SECONDS_PER_DAY - secs;
             assert!(dtt.abs() < 0.01 && dut.abs() < 0.01, "{dtt} {dut}");
         }
+    }
+
+    #[cfg(feature = "chrono")]
+    #[test]
+    fn from_chrono_keeps_fractions_and_leap_seconds() {
+        use chrono::{TimeZone, Timelike};
+        let t = chrono::Utc
+            .with_ymd_and_hms(2016, 12, 31, 23, 59, 59)
+            .unwrap()
+            .with_nanosecond(1_500_000_000)
+            .unwrap();
+        let u = UtcDateTime::try_from(t).unwrap();
+        assert_eq!(
+            (u.year, u.month, u.day, u.hour, u.minute),
+            (2016, 12, 31, 23, 59)
+        );
+        assert!((u.second - 60.5).abs() < 1e-9);
     }
 }

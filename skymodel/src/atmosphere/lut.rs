@@ -259,12 +259,7 @@ impl AtmosphereLuts {
                     } else {
                         cornette_shanks_phase(medium.g, cos_theta)
                     };
-                    let ground = medium.hits_ground(r, mu);
-                    let t_max = if ground {
-                        medium.distance_to_bottom(r, mu)
-                    } else {
-                        medium.distance_to_top(r, mu)
-                    };
+                    let (t_max, ground) = medium.ray_end(r, mu);
                     let steps = cfg.multiscatter_steps;
                     let dt = t_max / steps as f32;
                     let mut tv = Spectrum::ONE;
@@ -500,12 +495,7 @@ impl SkyView {
         let m = &luts.medium;
         let pos = Vec3::new(0.0, 0.0, r0);
         let mu = view.z;
-        let ground = m.hits_ground(r0, mu);
-        let t_max = if ground {
-            m.distance_to_bottom(r0, mu)
-        } else {
-            m.distance_to_top(r0, mu)
-        };
+        let (t_max, ground) = m.ray_end(r0, mu);
         let cos_theta = view.dot(sun);
         let pr = rayleigh_phase(cos_theta);
         let pm = cornette_shanks_phase(m.g, cos_theta);

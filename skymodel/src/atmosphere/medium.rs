@@ -157,6 +157,18 @@ impl Medium {
         mu < 0.0 && r * r * (mu * mu - 1.0) + self.bottom * self.bottom >= 0.0
     }
 
+    /// Where a ray from radius `r` with zenith cosine `mu` leaves the
+    /// atmosphere: (distance, km; whether it ends on the ground rather than
+    /// at the top).
+    #[inline]
+    pub fn ray_end(&self, r: f32, mu: f32) -> (f32, bool) {
+        if self.hits_ground(r, mu) {
+            (self.distance_to_bottom(r, mu), true)
+        } else {
+            (self.distance_to_top(r, mu), false)
+        }
+    }
+
     /// Fraction of the Sun's disk above the horizon of a point at radius
     /// `r` when the Sun's zenith cosine there is `mu_s`: the Earth's shadow
     /// with a soft edge one solar diameter wide (Bruneton 2017 uses the

@@ -162,12 +162,7 @@ pub fn single_scattering(
 ) -> Spectrum {
     let pos = Vec3::new(0.0, 0.0, r0);
     let mu = view.z;
-    let ground = m.hits_ground(r0, mu);
-    let t_max = if ground {
-        m.distance_to_bottom(r0, mu)
-    } else {
-        m.distance_to_top(r0, mu)
-    };
+    let (t_max, ground) = m.ray_end(r0, mu);
     let cos_theta = view.dot(sun);
     let pr = rayleigh_phase(cos_theta);
     let pm = cornette_shanks_phase(m.g, cos_theta);
@@ -206,6 +201,8 @@ struct Segment {
     ground: bool,
     /// Cumulative column densities at the step boundaries.
     cols: Vec<[f32; 3]>,
+    /// The column densities of the whole segment (the last of `cols`).
+    total: [f32; 3],
     dt: f32,
 }
 
@@ -214,12 +211,7 @@ const REF_BAND: usize = 4;
 fn segment(m: &Medium, p: Vec3, d: Vec3, steps: usize) -> Segment {
     let r = p.length();
     let mu = p.dot(d) / r;
-    let ground = m.hits_ground(r, mu);
-    let t_max = if ground {
-        m.distance_to_bottom(r, mu)
-    } else {
-        m.distance_to_top(r, mu)
-    };
+    let (t_max, ground) = m.ray_end(r, mu);
     let dt = t_max / steps as f32;
     let mut cols = Vec::with_capacity(steps + 1);
     let mut c = [0.0f32; 3];
@@ -236,6 +228,7 @@ fn segment(m: &Medium, p: Vec3, d: Vec3, steps: usize) -> Segment {
         t_max,
         ground,
         cols,
+        total: c,
         dt,
     }
 }
@@ -266,7 +259,7 @@ pub fn higher_orders(
         let mut beta = Spectrum::ONE;
         for order in 1..=cfg.max_orders {
             let seg = segment(m, p, d, cfg.segment_steps);
-            let tau_tot = tau_ref(m, *seg.cols.last().unwrap());
+            let tau_tot = tau_ref(m, seg.total);
             // Choose the ground or the medium when the ray ends on the ground.
             let t_ground = (-tau_tot).exp();
             let p_ground = if seg.ground {
@@ -277,7 +270,7 @@ pub fn higher_orders(
             if seg.ground && rng.next_f32() < p_ground {
                 let pg = p + d * seg.t_max;
                 let n = pg.normalize();
-                let tv = optical_depth(m, *seg.cols.last().unwrap()).exp_neg();
+                let tv = optical_depth(m, seg.total).exp_neg();
                 beta = beta * tv * (1.0 / p_ground);
                 if order >= cfg.mc_min_order {
                     let tsun = sun_transmittance_marched(m, pg, sun, cfg.sun_steps);
