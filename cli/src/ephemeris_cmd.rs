@@ -16,15 +16,8 @@ pub struct EphemerisArgs {
     /// Instant, RFC 3339 civil UTC (e.g. 2024-04-08T18:42:00Z) or `now`.
     #[arg(long, value_name = "TIME")]
     time: Option<String>,
-    /// Geodetic latitude, degrees in [-90, 90].
-    #[arg(long, value_name = "DEG")]
-    lat: Option<f64>,
-    /// East longitude, degrees in [-180, 180] (360-wrapped input accepted).
-    #[arg(long, value_name = "DEG")]
-    lon: Option<f64>,
-    /// Elevation above the WGS84 ellipsoid, metres.
-    #[arg(long, value_name = "M", default_value_t = 0.0)]
-    elevation: f64,
+    #[command(flatten)]
+    observer: common::ObserverArgs,
     /// Comma-separated bodies (sun, moon, mercury, venus, mars, jupiter, saturn) or `all`.
     #[arg(long, value_name = "LIST", default_value = "all")]
     body: String,
@@ -100,9 +93,8 @@ pub fn run(args: &EphemerisArgs) -> Result<(), CliError> {
     let time = args.time.as_deref().ok_or_else(|| {
         CliError::input("--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)")
     })?;
-    let lat = common::required("--lat", args.lat, "degrees in [-90, 90]")?;
-    let lon = common::required("--lon", args.lon, "degrees east in [-180, 180]")?;
-    let req = request(time, lat, lon, args.elevation).map_err(CliError::input)?;
+    let (lat, lon) = args.observer.lat_lon("")?;
+    let req = request(time, lat, lon, args.observer.elevation).map_err(CliError::input)?;
     let doc = compute(&req, &bodies, precision).map_err(CliError::input)?;
     let mut out = std::io::stdout().lock();
     let text = match args.format {

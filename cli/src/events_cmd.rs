@@ -49,15 +49,8 @@ pub struct RiseSetArgs {
     /// UTC calendar day, YYYY-MM-DD.
     #[arg(long, value_name = "DATE")]
     date: String,
-    /// Geodetic latitude, degrees in [-90, 90].
-    #[arg(long, value_name = "DEG")]
-    lat: f64,
-    /// East longitude, degrees in [-180, 180] (360-wrapped input accepted).
-    #[arg(long, value_name = "DEG")]
-    lon: f64,
-    /// Elevation above the WGS84 ellipsoid, metres.
-    #[arg(long, value_name = "M", default_value_t = 0.0)]
-    elevation: f64,
+    #[command(flatten)]
+    observer: common::ObserverArgs,
     /// Accuracy tier: low, standard or high.
     #[arg(long, value_name = "TIER", default_value = "standard")]
     precision: String,
@@ -85,15 +78,8 @@ pub struct EclipsesArgs {
     local: bool,
     #[command(flatten)]
     interval: IntervalArgs,
-    /// Geodetic latitude, degrees in [-90, 90] (with --local).
-    #[arg(long, value_name = "DEG")]
-    lat: Option<f64>,
-    /// East longitude, degrees in [-180, 180] (with --local).
-    #[arg(long, value_name = "DEG")]
-    lon: Option<f64>,
-    /// Elevation above the WGS84 ellipsoid, metres (with --local).
-    #[arg(long, value_name = "M", default_value_t = 0.0)]
-    elevation: f64,
+    #[command(flatten)]
+    observer: common::ObserverArgs,
     /// Accuracy tier: low, standard or high (high uses the DE421-fitted
     /// Moon: local contacts to about 1 s instead of about 10 s).
     #[arg(long, value_name = "TIER", default_value = "standard")]
@@ -227,7 +213,7 @@ pub fn run_riseset(args: &RiseSetArgs) -> Result<(), CliError> {
             args.date
         ))
     })?;
-    let obs = common::observer(args.lat, args.lon, args.elevation).map_err(CliError::input)?;
+    let obs = args.observer.observer("")?;
     let day = rise_set_transit(&eph, body, &obs, y, m, d).map_err(astro)?;
     let events: Vec<Value> = day
         .events()
@@ -359,13 +345,7 @@ pub fn run_eclipses(args: &EclipsesArgs) -> Result<(), CliError> {
             })
         }
         (EclipseKindArg::Solar, true) => {
-            let lat = common::required("--lat", args.lat, "with --local; degrees in [-90, 90]")?;
-            let lon = common::required(
-                "--lon",
-                args.lon,
-                "with --local; degrees east in [-180, 180]",
-            )?;
-            let obs = common::observer(lat, lon, args.elevation).map_err(CliError::input)?;
+            let obs = args.observer.observer("with --local")?;
             let mut rows = Vec::new();
             for e in local_solar_eclipses(eph, &obs, &a, &b).map_err(astro)? {
                 let e = e.map_err(astro)?;

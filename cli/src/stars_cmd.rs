@@ -21,15 +21,8 @@ pub struct StarsArgs {
     /// Instant, RFC 3339 civil UTC (e.g. 2024-04-08T18:42:00Z) or `now`.
     #[arg(long, value_name = "TIME")]
     time: Option<String>,
-    /// Geodetic latitude, degrees in [-90, 90].
-    #[arg(long, value_name = "DEG")]
-    lat: Option<f64>,
-    /// East longitude, degrees in [-180, 180] (360-wrapped input accepted).
-    #[arg(long, value_name = "DEG")]
-    lon: Option<f64>,
-    /// Elevation above the WGS84 ellipsoid, metres.
-    #[arg(long, value_name = "M", default_value_t = 0.0)]
-    elevation: f64,
+    #[command(flatten)]
+    observer: common::ObserverArgs,
     /// Faintest V magnitude listed (the embedded catalogue reaches 6.5).
     #[arg(long, value_name = "MAG", default_value_t = 6.5)]
     limit_mag: f64,
@@ -81,10 +74,9 @@ pub fn run(args: &StarsArgs) -> Result<(), CliError> {
     let time = args.time.as_deref().ok_or_else(|| {
         CliError::input("--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)")
     })?;
-    let lat = common::required("--lat", args.lat, "degrees in [-90, 90]")?;
-    let lon = common::required("--lon", args.lon, "degrees east in [-180, 180]")?;
+    let (lat, lon) = args.observer.lat_lon("")?;
     let utc = parse_time(time).map_err(CliError::input)?;
-    let observer = common::observer(lat, lon, args.elevation).map_err(CliError::input)?;
+    let observer = common::observer(lat, lon, args.observer.elevation).map_err(CliError::input)?;
     let limit = common::check_input("--limit-mag", args.limit_mag, -30.0, 30.0)?;
     let instant = Instant::from_utc(&utc).map_err(|e| CliError::input(format!("--time: {e}")))?;
     let epoch = Epoch::new(&instant, NutationModel::Iau1980);
