@@ -77,6 +77,16 @@ pub struct RenderArgs {
     output: Option<PathBuf>,
 }
 
+/// A scene error as a one-line input error naming the flag and the field.
+fn scene_error(e: himmel_skymodel::SceneError) -> CliError {
+    CliError::input(format!(
+        "{} ({}): {}",
+        flag_of(&e.field),
+        e.field,
+        e.message
+    ))
+}
+
 fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
     if v.is_finite() {
         Ok(v)
@@ -199,14 +209,7 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
     if let Some(v) = a.moon_scale {
         scene.moon_scale = finite("--moon-scale", v)?;
     }
-    scene.validate().map_err(|e| {
-        CliError::input(format!(
-            "{} ({}): {}",
-            flag_of(&e.field),
-            e.field,
-            e.message
-        ))
-    })?;
+    scene.validate().map_err(scene_error)?;
     Ok(scene)
 }
 
@@ -242,14 +245,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         }
     }
     let scene = build_scene(a)?;
-    let state = SkyState::at(&scene).map_err(|e| {
-        CliError::input(format!(
-            "{} ({}): {}",
-            flag_of(&e.field),
-            e.field,
-            e.message
-        ))
-    })?;
+    let state = SkyState::at(&scene).map_err(scene_error)?;
     let mut renderer = CpuRenderer::new(himmel_cpu::cache::default_dir());
     renderer.progress = true;
     let out = renderer
