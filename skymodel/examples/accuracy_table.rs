@@ -10,7 +10,9 @@
 //!
 //! Environment: `SUNS=60,10` (Sun altitudes), `PATHS=10000` (reference
 //! Monte-Carlo paths per direction), `AEROSOL=1` (aerosol density factor),
-//! `VERBOSE=1` (signed error per direction on stderr).
+//! `VERBOSE=1` (signed error per direction on stderr), `REF_CACHE=FILE`
+//! (keep the reference values between runs), `ONLY=default` (configurations
+//! whose name contains this).
 
 use std::time::Instant;
 
@@ -49,24 +51,67 @@ fn main() {
         ..Default::default()
     };
     let medium = himmel_skymodel::atmosphere::Medium::new(&params);
-    // Reference luminances (cd/m² at 1 AU).
+    // Reference luminances (cd/m² at 1 AU); REF_CACHE=FILE keeps them
+    // between runs (one line per Sun altitude, tagged with the settings).
+    let cache = std::env::var("REF_CACHE").ok();
+    let tag = format!(
+        "{} {} {} {}",
+        params.aerosol_density,
+        params.aerosol_g,
+        rc.paths,
+        elevations.len()
+    );
+    let cached: Vec<String> = cache
+        .as_ref()
+        .and_then(|c| std::fs::read_to_string(c).ok())
+        .map(|t| t.lines().map(str::to_string).collect())
+        .unwrap_or_default();
     let mut refs = Vec::new();
+    let mut lines = Vec::new();
     let t = Instant::now();
     for &s in &suns {
         let sun = SkyView::sun_local(s.to_radians().sin());
+        let key = format!("{tag} {s}:");
+        let hit = cached.iter().find_map(|l| l.strip_prefix(&key)).map(|l| {
+            l.split_whitespace()
+                .map(|x| x.parse::<f32>().unwrap())
+                .collect::<Vec<_>>()
+        });
         let mut v = Vec::new();
+        let mut k_all = 0;
         for &e in &elevations {
             for k in 0..8 {
                 let az = (k as f32 * 22.5 + 5.0).to_radians();
                 let er = e.to_radians();
                 let d = Vec3::new(er.cos() * az.cos(), er.cos() * az.sin(), er.sin());
-                v.push((
-                    d,
-                    w.to_y(&reference::radiance(&medium, medium.bottom, d, sun, &rc)),
-                ));
+                let y = match &hit {
+                    Some(h) => h[k_all],
+                    None => w.to_y(&reference::radiance(&medium, medium.bottom, d, sun, &rc)),
+                };
+                k_all += 1;
+                v.push((d, y));
             }
         }
+        lines.push(format!(
+            "{key} {}",
+            v.iter()
+                .map(|x| x.1.to_string())
+                .collect::<Vec<_>>()
+                .join(" ")
+        ));
         refs.push(v);
+    }
+    if let Some(c) = &cache {
+        let mut all: Vec<String> = cached
+            .into_iter()
+            .filter(|l| {
+                !lines
+                    .iter()
+                    .any(|n| n.split(':').next() == l.split(':').next())
+            })
+            .collect();
+        all.extend(lines);
+        let _ = std::fs::write(c, all.join("\n") + "\n");
     }
     eprintln!("reference: {:.1} s", t.elapsed().as_secs_f64());
     let fwd: Option<f32> = std::env::var("FWD").ok().and_then(|p| p.parse().ok());
@@ -87,7 +132,14 @@ fn main() {
         ),
         ("small (16² MS, 36 dirs, 96×64 view)", LutConfig::small()),
         (
-            "default (32² MS, 64 dirs, 192×108 view, 30 steps)",
+            "32² MS (Hillaire's size), 64 dirs, 192×108 view",
+            LutConfig {
+                multiscatter_n: 32,
+                ..LutConfig::default()
+            },
+        ),
+        (
+            "default (48² MS, 64 dirs, 192×108 view, 30 steps)",
             LutConfig::default(),
         ),
         (
@@ -111,6 +163,9 @@ fn main() {
             c.1.multiscatter_dirs = v[1];
             c.1.multiscatter_steps = v[2];
         }
+    }
+    if let Ok(only) = std::env::var("ONLY") {
+        configs.retain(|c| c.0.contains(only.as_str()));
     }
     if let Some(f) = fwd {
         for c in configs.iter_mut() {

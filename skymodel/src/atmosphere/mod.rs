@@ -10,7 +10,7 @@
 //!   orders ≥ 2), for tests and the accuracy table.
 //!
 //! Why Hillaire rather than Bruneton & Neyret: a parameter change costs a
-//! transmittance LUT (256×64) and a 32×32 multiple-scattering LUT — tens of
+//! transmittance LUT (256×64) and a 48×48 multiple-scattering LUT — tens of
 //! milliseconds — instead of Bruneton's 4D scattering textures for every
 //! order; the per-frame sky-view LUT handles any Sun position, including
 //! twilight. The accuracy table in the README measures what this costs

@@ -147,7 +147,7 @@ pub struct LutConfig {
     pub transmittance_h: usize,
     /// Ray-march steps per transmittance texel, default 40.
     pub transmittance_steps: usize,
-    /// Multiple-scattering LUT size (Sun zenith × altitude), default 32.
+    /// Multiple-scattering LUT size (Sun zenith × altitude), default 48.
     pub multiscatter_n: usize,
     /// Directions per multiple-scattering texel (a square number), default 64.
     pub multiscatter_dirs: usize,
@@ -174,7 +174,7 @@ impl Default for LutConfig {
             transmittance_w: 256,
             transmittance_h: 64,
             transmittance_steps: 40,
-            multiscatter_n: 32,
+            multiscatter_n: 48,
             multiscatter_dirs: 64,
             multiscatter_steps: 20,
             sky_view_w: 192,
