@@ -16,7 +16,7 @@ pub enum Effect {
     Atmosphere,
     /// The Sun's disk.
     Sun,
-    /// The Moon (a later issue).
+    /// The Moon.
     Moon,
     /// Catalogue stars (a later issue).
     Stars,
@@ -62,7 +62,7 @@ impl Effect {
 
     /// Whether this version renders the effect.
     pub fn available(self) -> bool {
-        matches!(self, Effect::Atmosphere | Effect::Sun)
+        matches!(self, Effect::Atmosphere | Effect::Sun | Effect::Moon)
     }
 }
 
