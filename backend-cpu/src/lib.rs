@@ -318,6 +318,7 @@ impl SkyRenderer for CpuRenderer {
                                 p[c] += acc[c] * k;
                             }
                         });
+                    moon_pass::render_corona(&mut pixels, &dirs, scene, state, luts, r0);
                 }
                 Effect::Moon => {
                     let luts = state.runs(Effect::Atmosphere).then_some(()).and(self.luts.as_ref());

@@ -94,3 +94,52 @@ fn bounding_box(cam: &Camera, shader: &MoonShader, w: usize, h: usize) -> (usize
         clamp(ymax.ceil() + 2.0, h),
     )
 }
+
+/// The inner corona around an eclipsed Sun (run by the Sun pass when the
+/// Moon hides part of the disk; against the uneclipsed daylight sky the
+/// corona, ~10⁻⁶ of the disk's radiance, is invisible): Baumbach's profile
+/// ([`himmel_skymodel::sun::corona_relative`]) out to 6 solar radii times
+/// the disk's mean radiance and the transmittance along the line of sight,
+/// hidden by the Moon's disk (anti-aliased).
+pub fn render_corona(
+    pixels: &mut [[f32; 3]],
+    dirs: &[Option<Vec3>],
+    scene: &Scene,
+    state: &SkyState,
+    luts: Option<&AtmosphereLuts>,
+    r0: f32,
+) {
+    use himmel_skymodel::spectrum::{BandWeights, Spectrum};
+    if state.sun.visible_fraction >= 1.0 {
+        return;
+    }
+    let sun = state.sun.dir().as_vec3();
+    let rs = (state.sun.angular_radius * scene.sun_scale) as f32;
+    let moon = state.moon.dir().as_vec3();
+    let rm = (state.moon.angular_radius * scene.moon_scale) as f32;
+    let pixel = scene.camera.max_pixel_angle() as f32;
+    let cos_out = (6.0 * rs).cos();
+    let w = BandWeights::solar();
+    let mean = (state.sun.irradiance_scale / (std::f64::consts::PI * (rs as f64).sin().powi(2))) as f32;
+    pixels.par_iter_mut().zip(dirs.par_iter()).for_each(|(p, d)| {
+        let Some(d) = *d else { return };
+        if d.z < 0.0 || d.dot(sun) < cos_out {
+            return;
+        }
+        let r = d.cross(sun).length().atan2(d.dot(sun)) / rs;
+        let rel = himmel_skymodel::sun::corona_relative(r as f64) as f32;
+        if rel <= 0.0 {
+            return;
+        }
+        let gm = d.cross(moon).length().atan2(d.dot(moon));
+        let visible = 1.0 - ((rm - gm) / pixel + 0.5).clamp(0.0, 1.0);
+        if visible <= 0.0 {
+            return;
+        }
+        let t = luts.map_or(Spectrum::ONE, |l| l.sun_transmittance(r0, d.z));
+        let c = w.to_rgb(&(t * (mean * rel * visible)));
+        for k in 0..3 {
+            p[k] += c[k];
+        }
+    });
+}

@@ -119,3 +119,302 @@ fn photometry_follows_the_lunar_phase_curve() {
         }
     }
 }
+
+/// What the image shows of the disk.
+#[derive(Debug)]
+struct Measured {
+    cx: f64,
+    cy: f64,
+    r_px: f64,
+    lit_fraction: f64,
+    /// Direction of the lit part's centroid from the centre, radians
+    /// counterclockwise from the image's up.
+    limb_angle: f64,
+}
+
+fn measure(img: &himmel_skymodel::HdrImage) -> Measured {
+    let lum: Vec<f32> = img.pixels.iter().map(|p| luminance(*p)).collect();
+    let mut on: Vec<f32> = lum.iter().copied().filter(|&l| l > 0.0).collect();
+    on.sort_by(f32::total_cmp);
+    let p90 = on[on.len() * 9 / 10];
+    let (mut n, mut sx, mut sy, mut nl, mut lx, mut ly) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    for (i, &l) in lum.iter().enumerate() {
+        if l <= 0.0 {
+            continue;
+        }
+        let (x, y) = ((i % img.width) as f64 + 0.5, (i / img.width) as f64 + 0.5);
+        n += 1.0;
+        sx += x;
+        sy += y;
+        if l > 0.01 * p90 {
+            nl += 1.0;
+            lx += x;
+            ly += y;
+        }
+    }
+    let (cx, cy) = (sx / n, sy / n);
+    let (dx, dy) = (lx / nl - cx, ly / nl - cy);
+    Measured {
+        cx,
+        cy,
+        r_px: (n / std::f64::consts::PI).sqrt(),
+        lit_fraction: nl / n,
+        limb_angle: (-dx).atan2(-dy),
+    }
+}
+
+fn wrap_deg(a: f64) -> f64 {
+    (a + 540.0).rem_euclid(360.0) - 180.0
+}
+
+fn check_geometry(d: &str, lat: f64, lon: f64) {
+    let size = 384u32;
+    let (s, st) = moon_scene(d, lat, lon, size, vec![Effect::Moon]);
+    let out = render(&s, &st);
+    let m = measure(&out.image);
+    let t = (s.camera.fov_deg.to_radians() / 2.0).tan();
+    let px = 2.0 * t / size as f64;
+    let r_want = st.moon.angular_radius.tan() / px;
+    let k = st.moon.illuminated_fraction;
+    // Expected bright-limb direction: PA χ seen with the zenith (PA q) up.
+    let want = (st.moon.bright_limb_pa - st.moon.parallactic_angle).to_degrees();
+    let got = m.limb_angle.to_degrees();
+    eprintln!(
+        "{d} lat {lat:.1}: centre ({:.2}, {:.2}) radius {:.2} px (want {r_want:.2}), k {:.4} (want {k:.4}), limb {got:.2}° (want {:.2}°), q {:.1}°",
+        m.cx,
+        m.cy,
+        m.r_px,
+        m.lit_fraction,
+        wrap_deg(want),
+        st.moon.parallactic_angle.to_degrees()
+    );
+    let c = size as f64 / 2.0;
+    assert!((m.cx - c).abs() < 1.0 && (m.cy - c).abs() < 1.0, "{d}: {m:?}");
+    assert!((m.r_px / r_want - 1.0).abs() < 0.02, "{d}: {m:?}");
+    assert!((m.lit_fraction - k).abs() < 0.02, "{d}: {m:?} vs {k}");
+    assert!(wrap_deg(got - want).abs() < 3.0, "{d}: {got} vs {want}");
+}
+
+#[test]
+fn disk_position_size_phase_and_bright_limb() {
+    for target in [60.0, 120.0] {
+        for d in dates_with_phase(target) {
+            let (lat, lon) = site_for(&utc(&d));
+            check_geometry(&d, lat, lon);
+        }
+    }
+}
+
+#[test]
+fn observer_at_a_pole() {
+    // Moon north of the equator: the North Pole sees it; south: the South Pole.
+    for d in dates_with_phase(60.0) {
+        let i = Instant::from_utc(&utc(&d)).unwrap();
+        let dec = Sky::new(Precision::Standard, &i)
+            .apparent(Body::Moon)
+            .unwrap()
+            .dec;
+        let lat = if dec > 0.0 { 90.0 } else { -90.0 };
+        check_geometry(&d, lat, 0.0);
+    }
+}
+
+/// Mean linear RGB over the pixels within 0.98 of the disk's radius.
+fn disk_mean(s: &Scene, st: &SkyState, img: &himmel_skymodel::HdrImage) -> [f64; 3] {
+    let t = (s.camera.fov_deg.to_radians() / 2.0).tan();
+    let r = st.moon.angular_radius.tan() / (2.0 * t / img.height as f64) * 0.98;
+    let (cx, cy) = (img.width as f64 / 2.0, img.height as f64 / 2.0);
+    let (mut acc, mut n) = ([0.0f64; 3], 0.0);
+    for (i, p) in img.pixels.iter().enumerate() {
+        let (x, y) = ((i % img.width) as f64 + 0.5, (i / img.width) as f64 + 0.5);
+        if (x - cx).hypot(y - cy) < r {
+            for k in 0..3 {
+                acc[k] += p[k] as f64;
+            }
+            n += 1.0;
+        }
+    }
+    acc.map(|v| v / n)
+}
+
+#[test]
+fn lunar_eclipse_2025_03_14() {
+    // Greatest eclipse 06:58:43 UTC (NASA/Espenak), umbral magnitude 1.178.
+    let g = "2025-03-14T06:58:43Z";
+    let (lat, lon) = site_for(&utc(g));
+    let (s, st) = moon_scene(g, lat, lon, 192, vec![Effect::Moon]);
+    assert!(st.moon.eclipse.is_some());
+    let out = render(&s, &st);
+    assert!(out.passes.iter().any(|p| p.name == "moon-eclipse" && p.ran));
+    let dark = disk_mean(&s, &st, &out.image);
+    let (s0, st0) = moon_scene("2025-03-14T03:58:43Z", lat, lon, 192, vec![Effect::Moon]);
+    assert!(st0.moon.alt_deg > 20.0);
+    let bright = disk_mean(&s0, &st0, &render(&s0, &st0).image);
+    let ratio = luminance(dark.map(|v| v as f32)) / luminance(bright.map(|v| v as f32));
+    eprintln!(
+        "eclipse: mean {dark:?} vs {bright:?}: ratio {ratio:.3e} ({:.2} mag), R/B {:.2}",
+        -2.5 * (ratio as f64).log10(),
+        dark[0] / dark[2]
+    );
+    assert!(ratio < 0.01, "{ratio}");
+    assert!(dark[0] > 2.0 * dark[2], "{dark:?}");
+    // Totality is not black: the refracted light is there (Danjon L ≥ 0).
+    assert!(ratio > 1e-7, "{ratio}");
+}
+
+#[test]
+fn eclipse_shading_only_near_an_eclipse() {
+    let d = &dates_with_phase(60.0)[0];
+    let (lat, lon) = site_for(&utc(d));
+    let (s, st) = moon_scene(d, lat, lon, 32, vec![Effect::Moon]);
+    assert!(st.moon.eclipse.is_none());
+    let out = render(&s, &st);
+    let e = out.passes.iter().find(|p| p.name == "moon-eclipse").unwrap();
+    assert!(!e.ran && e.reason.as_deref().unwrap().contains("shadow axis"), "{e:?}");
+}
+
+#[test]
+fn moon_below_the_horizon_is_culled() {
+    // Find a time on 2024-01-20 when the Moon is about 10° below the horizon at Munich.
+    let mut s = Scene::default();
+    s.observer.lat_deg = 48.14;
+    s.observer.lon_deg = 11.58;
+    s.effects = vec![Effect::Moon];
+    s.camera.width = 32;
+    s.camera.height = 32;
+    let mut found = false;
+    for h in 0..48 {
+        s.time.utc = format!("2024-01-{:02}T{:02}:30:00Z", 20 + h / 24, h % 24);
+        let st = SkyState::at(&s).unwrap();
+        if (st.moon.alt_deg + 10.0).abs() < 4.0 {
+            assert!(!st.runs(Effect::Moon));
+            let out = render(&s, &st);
+            let p = out.passes.iter().find(|p| p.name == "moon").unwrap();
+            assert!(!p.ran && p.reason.as_deref().unwrap().contains("below the horizon"));
+            assert!(out.image.pixels.iter().all(|p| *p == [0.0; 3]));
+            found = true;
+            break;
+        }
+    }
+    assert!(found);
+    // And above the horizon it runs.
+    s.time.utc = "2024-01-20T20:00:00Z".into();
+    let st = SkyState::at(&s).unwrap();
+    assert!(st.moon.alt_deg > 10.0 && st.runs(Effect::Moon));
+}
+
+#[test]
+fn phase_angle_0_and_180_and_the_horizon_are_finite() {
+    let d = &dates_with_phase(60.0)[0];
+    let (lat, lon) = site_for(&utc(d));
+    let (s, mut st) = moon_scene(d, lat, lon, 96, vec![Effect::Moon]);
+    // Full phase: the Sun exactly behind the observer; new: exactly behind the Moon.
+    for (sun, g) in [([0.0, 0.0, 1.0], 0.0), ([0.0, 0.0, -1.0], std::f64::consts::PI)] {
+        st.moon.sun_in_sky = sun;
+        st.moon.phase_angle_topo = g;
+        let img = render(&s, &st).image;
+        assert!(img.pixels.iter().all(|p| p.iter().all(|v| v.is_finite() && *v >= 0.0)));
+        let e = illuminance(&s, &img);
+        let r = st.moon.angular_radius;
+        let full = himmel_skymodel::moon::GEOMETRIC_ALBEDO * st.moon.sun_illuminance_lux * r.sin().powi(2);
+        eprintln!("g {g}: {e:.4e} lx (p E (R/D)² = {full:.4e})");
+        if g == 0.0 {
+            // Full phase is the geometric albedo's definition (the map's
+            // near-side normalisation holds to a few % with libration).
+            assert!((e / full - 1.0).abs() < 0.05, "{e} {full}");
+        } else {
+            // New Moon: earthshine only, 1e-4..1e-3 of the full Moon.
+            assert!(e > 0.0 && e < 1e-3 * full, "{e} {full}");
+        }
+    }
+    // The Moon on the horizon with extinction: finite, cut by the ground, redder.
+    let mut s = Scene::default();
+    s.time.utc = d.clone();
+    s.observer.lat_deg = 0.0;
+    s.effects = vec![Effect::Moon, Effect::Atmosphere];
+    s.lut = LutConfig::small();
+    s.camera.projection = Projection::Perspective;
+    s.camera.width = 96;
+    s.camera.height = 96;
+    s.camera.fov_deg = 1.0;
+    let mut best = None;
+    for k in 0..3600 {
+        s.observer.lon_deg = -180.0 + k as f64 * 0.1;
+        let st = SkyState::at(&s).unwrap();
+        if st.moon.alt_refracted_deg > 0.0 && st.moon.alt_refracted_deg < 0.2 && st.sun.alt_deg < -10.0 {
+            best = Some(st);
+            break;
+        }
+    }
+    let st = best.expect("a longitude where the Moon rises or sets at night");
+    s.camera.yaw_deg = st.moon.az_deg;
+    s.camera.pitch_deg = st.moon.alt_refracted_deg;
+    let st = SkyState::at(&s).unwrap();
+    let img = render(&s, &st).image;
+    assert!(img.pixels.iter().all(|p| p.iter().all(|v| v.is_finite())));
+    let (high_s, high_st) = moon_scene(d, lat, lon, 96, vec![Effect::Moon]);
+    let high = disk_mean(&high_s, &high_st, &render(&high_s, &high_st).image);
+    let low = disk_mean(&s, &st, &img);
+    eprintln!("horizon: {low:?} vs high {high:?}");
+    assert!(low[0] / low[2] > 2.0 * high[0] / high[2], "{low:?} {high:?}");
+    assert!(luminance(low.map(|v| v as f32)) < 0.5 * luminance(high.map(|v| v as f32)));
+}
+
+#[test]
+fn solar_eclipse_2024_04_08_dallas() {
+    let mut s = Scene::default();
+    s.observer.lat_deg = 32.7767;
+    s.observer.lon_deg = -96.797;
+    s.effects = vec![Effect::Moon, Effect::Sun, Effect::Atmosphere];
+    s.lut = LutConfig::small();
+    s.camera.width = 33;
+    s.camera.height = 33;
+    let zenith = |t: &str| {
+        let mut s = s.clone();
+        s.time.utc = t.into();
+        let st = SkyState::at(&s).unwrap();
+        let img = render(&s, &st).image;
+        (luminance(img.pixels[16 * 33 + 16]), st)
+    };
+    let (before, _) = zenith("2024-04-08T16:30:00Z");
+    let (total, st) = zenith("2024-04-08T18:42:39Z");
+    eprintln!(
+        "Dallas zenith: {before:.3e} → {total:.3e} cd/m² (ratio {:.2e}), visible fraction {:.2e}",
+        total / before,
+        st.sun.visible_fraction
+    );
+    assert!(st.sun.visible_fraction < 1e-3);
+    assert!(total < before / 300.0);
+    // Lit by the corona, not black.
+    assert!(total > 0.0);
+    // Nothing brighter than 1e5 cd/m² within 1° of the Sun.
+    let mut p = s.clone();
+    p.time.utc = "2024-04-08T18:42:39Z".into();
+    p.camera.projection = Projection::Perspective;
+    p.camera.width = 160;
+    p.camera.height = 160;
+    p.camera.fov_deg = 2.5;
+    p.camera.yaw_deg = st.sun.az_deg;
+    p.camera.pitch_deg = st.sun.alt_refracted_deg;
+    let st = SkyState::at(&p).unwrap();
+    let img = render(&p, &st).image;
+    let dirs = himmel_cpu::directions(&p.camera);
+    let sun = st.sun.dir().as_vec3();
+    let max = img
+        .pixels
+        .iter()
+        .zip(&dirs)
+        .filter(|(_, d)| d.unwrap().angle_between(sun) < 1f32.to_radians())
+        .map(|(p, _)| luminance(*p))
+        .fold(0.0f32, f32::max);
+    eprintln!("max within 1° of the Sun: {max:.3e} cd/m²");
+    assert!(max < 1e5, "{max}");
+    // Before totality the same frame holds the bright photosphere.
+    p.time.utc = "2024-04-08T18:30:00Z".into();
+    let st = SkyState::at(&p).unwrap();
+    p.camera.yaw_deg = st.sun.az_deg;
+    p.camera.pitch_deg = st.sun.alt_refracted_deg;
+    let st = SkyState::at(&p).unwrap();
+    let img = render(&p, &st).image;
+    assert!(img.pixels.iter().any(|p| luminance(*p) > 1e8));
+}

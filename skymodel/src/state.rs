@@ -45,10 +45,13 @@ impl SunState {
     }
 
     /// The irradiance scale of the sunlight that lights the sky and the
-    /// ground: (1 AU / distance)² × the visible fraction of the disk (a
-    /// solar eclipse dims the sky in proportion).
+    /// ground: (1 AU / distance)² × (the visible fraction of the disk + the
+    /// corona's [`crate::sun::CORONA_FRACTION`]); a solar eclipse dims the
+    /// sky in proportion. (The light scattered into the umbra from the
+    /// sunlit atmosphere outside it, which makes the real sky at totality
+    /// ~10⁻⁴ of daylight, is not modelled: totality is darker here.)
     pub fn sky_irradiance_scale(&self) -> f64 {
-        self.irradiance_scale * self.visible_fraction
+        self.irradiance_scale * (self.visible_fraction + crate::sun::CORONA_FRACTION).min(1.0)
     }
 }
 
