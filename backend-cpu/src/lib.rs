@@ -298,8 +298,8 @@ impl SkyRenderer for CpuRenderer {
                                     };
                                     let sd = sd.as_vec3();
                                     // The ground hides the disk below the horizon.
-                                    let behind_moon =
-                                        sd.dot(moon_c) > 0.0 && sd.cross(moon_c).length() < moon_sin;
+                                    let behind_moon = sd.dot(moon_c) > 0.0
+                                        && sd.cross(moon_c).length() < moon_sin;
                                     if sd.z < 0.0 || !disk.covers(sd) || behind_moon {
                                         continue;
                                     }
@@ -321,8 +321,12 @@ impl SkyRenderer for CpuRenderer {
                     moon_pass::render_corona(&mut pixels, &dirs, scene, state, luts, r0);
                 }
                 Effect::Moon => {
-                    let luts = state.runs(Effect::Atmosphere).then_some(()).and(self.luts.as_ref());
-                    let r0 = luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
+                    let luts = state
+                        .runs(Effect::Atmosphere)
+                        .then_some(())
+                        .and(self.luts.as_ref());
+                    let r0 =
+                        luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
                     moon_pass::render(&mut pixels, &dirs, w, scene, state, luts, r0);
                 }
                 other => {

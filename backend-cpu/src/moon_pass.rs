@@ -61,7 +61,12 @@ pub fn render(
 }
 
 /// Pixel bounding box [x0, x1) × [y0, y1) of the disk plus two pixels.
-fn bounding_box(cam: &Camera, shader: &MoonShader, w: usize, h: usize) -> (usize, usize, usize, usize) {
+fn bounding_box(
+    cam: &Camera,
+    shader: &MoonShader,
+    w: usize,
+    h: usize,
+) -> (usize, usize, usize, usize) {
     if cam.projection != Projection::Perspective {
         return (0, w, 0, h);
     }
@@ -120,26 +125,30 @@ pub fn render_corona(
     let pixel = scene.camera.max_pixel_angle() as f32;
     let cos_out = (6.0 * rs).cos();
     let w = BandWeights::solar();
-    let mean = (state.sun.irradiance_scale / (std::f64::consts::PI * (rs as f64).sin().powi(2))) as f32;
-    pixels.par_iter_mut().zip(dirs.par_iter()).for_each(|(p, d)| {
-        let Some(d) = *d else { return };
-        if d.z < 0.0 || d.dot(sun) < cos_out {
-            return;
-        }
-        let r = d.cross(sun).length().atan2(d.dot(sun)) / rs;
-        let rel = himmel_skymodel::sun::corona_relative(r as f64) as f32;
-        if rel <= 0.0 {
-            return;
-        }
-        let gm = d.cross(moon).length().atan2(d.dot(moon));
-        let visible = 1.0 - ((rm - gm) / pixel + 0.5).clamp(0.0, 1.0);
-        if visible <= 0.0 {
-            return;
-        }
-        let t = luts.map_or(Spectrum::ONE, |l| l.sun_transmittance(r0, d.z));
-        let c = w.to_rgb(&(t * (mean * rel * visible)));
-        for k in 0..3 {
-            p[k] += c[k];
-        }
-    });
+    let mean =
+        (state.sun.irradiance_scale / (std::f64::consts::PI * (rs as f64).sin().powi(2))) as f32;
+    pixels
+        .par_iter_mut()
+        .zip(dirs.par_iter())
+        .for_each(|(p, d)| {
+            let Some(d) = *d else { return };
+            if d.z < 0.0 || d.dot(sun) < cos_out {
+                return;
+            }
+            let r = d.cross(sun).length().atan2(d.dot(sun)) / rs;
+            let rel = himmel_skymodel::sun::corona_relative(r as f64) as f32;
+            if rel <= 0.0 {
+                return;
+            }
+            let gm = d.cross(moon).length().atan2(d.dot(moon));
+            let visible = 1.0 - ((rm - gm) / pixel + 0.5).clamp(0.0, 1.0);
+            if visible <= 0.0 {
+                return;
+            }
+            let t = luts.map_or(Spectrum::ONE, |l| l.sun_transmittance(r0, d.z));
+            let c = w.to_rgb(&(t * (mean * rel * visible)));
+            for k in 0..3 {
+                p[k] += c[k];
+            }
+        });
 }

@@ -84,7 +84,8 @@ fn dates_with_phase(target: f64) -> Vec<String> {
         }
         let s = sky.apparent(Body::Sun).unwrap();
         let m = sky.apparent(Body::Moon).unwrap();
-        let waxing = (m.ecl_lon - s.ecl_lon).rem_euclid(std::f64::consts::TAU) < std::f64::consts::PI;
+        let waxing =
+            (m.ecl_lon - s.ecl_lon).rem_euclid(std::f64::consts::TAU) < std::f64::consts::PI;
         if waxing && !waxing_done {
             waxing_done = true;
             out.push(fmt(&i.to_utc()));
@@ -189,7 +190,10 @@ fn check_geometry(d: &str, lat: f64, lon: f64) {
         st.moon.parallactic_angle.to_degrees()
     );
     let c = size as f64 / 2.0;
-    assert!((m.cx - c).abs() < 1.0 && (m.cy - c).abs() < 1.0, "{d}: {m:?}");
+    assert!(
+        (m.cx - c).abs() < 1.0 && (m.cy - c).abs() < 1.0,
+        "{d}: {m:?}"
+    );
     assert!((m.r_px / r_want - 1.0).abs() < 0.02, "{d}: {m:?}");
     assert!((m.lit_fraction - k).abs() < 0.02, "{d}: {m:?} vs {k}");
     assert!(wrap_deg(got - want).abs() < 3.0, "{d}: {got} vs {want}");
@@ -269,8 +273,15 @@ fn eclipse_shading_only_near_an_eclipse() {
     let (s, st) = moon_scene(d, lat, lon, 32, vec![Effect::Moon]);
     assert!(st.moon.eclipse.is_none());
     let out = render(&s, &st);
-    let e = out.passes.iter().find(|p| p.name == "moon-eclipse").unwrap();
-    assert!(!e.ran && e.reason.as_deref().unwrap().contains("shadow axis"), "{e:?}");
+    let e = out
+        .passes
+        .iter()
+        .find(|p| p.name == "moon-eclipse")
+        .unwrap();
+    assert!(
+        !e.ran && e.reason.as_deref().unwrap().contains("shadow axis"),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -309,14 +320,21 @@ fn phase_angle_0_and_180_and_the_horizon_are_finite() {
     let (lat, lon) = site_for(&utc(d));
     let (s, mut st) = moon_scene(d, lat, lon, 96, vec![Effect::Moon]);
     // Full phase: the Sun exactly behind the observer; new: exactly behind the Moon.
-    for (sun, g) in [([0.0, 0.0, 1.0], 0.0), ([0.0, 0.0, -1.0], std::f64::consts::PI)] {
+    for (sun, g) in [
+        ([0.0, 0.0, 1.0], 0.0),
+        ([0.0, 0.0, -1.0], std::f64::consts::PI),
+    ] {
         st.moon.sun_in_sky = sun;
         st.moon.phase_angle_topo = g;
         let img = render(&s, &st).image;
-        assert!(img.pixels.iter().all(|p| p.iter().all(|v| v.is_finite() && *v >= 0.0)));
+        assert!(img
+            .pixels
+            .iter()
+            .all(|p| p.iter().all(|v| v.is_finite() && *v >= 0.0)));
         let e = illuminance(&s, &img);
         let r = st.moon.angular_radius;
-        let full = himmel_skymodel::moon::GEOMETRIC_ALBEDO * st.moon.sun_illuminance_lux * r.sin().powi(2);
+        let full =
+            himmel_skymodel::moon::GEOMETRIC_ALBEDO * st.moon.sun_illuminance_lux * r.sin().powi(2);
         eprintln!("g {g}: {e:.4e} lx (p E (R/D)² = {full:.4e})");
         if g == 0.0 {
             // Full phase is the geometric albedo's definition (the map's
@@ -341,7 +359,10 @@ fn phase_angle_0_and_180_and_the_horizon_are_finite() {
     for k in 0..3600 {
         s.observer.lon_deg = -180.0 + k as f64 * 0.1;
         let st = SkyState::at(&s).unwrap();
-        if st.moon.alt_refracted_deg > 0.0 && st.moon.alt_refracted_deg < 0.2 && st.sun.alt_deg < -10.0 {
+        if st.moon.alt_refracted_deg > 0.0
+            && st.moon.alt_refracted_deg < 0.2
+            && st.sun.alt_deg < -10.0
+        {
             best = Some(st);
             break;
         }
@@ -356,7 +377,10 @@ fn phase_angle_0_and_180_and_the_horizon_are_finite() {
     let high = disk_mean(&high_s, &high_st, &render(&high_s, &high_st).image);
     let low = disk_mean(&s, &st, &img);
     eprintln!("horizon: {low:?} vs high {high:?}");
-    assert!(low[0] / low[2] > 2.0 * high[0] / high[2], "{low:?} {high:?}");
+    assert!(
+        low[0] / low[2] > 2.0 * high[0] / high[2],
+        "{low:?} {high:?}"
+    );
     assert!(luminance(low.map(|v| v as f32)) < 0.5 * luminance(high.map(|v| v as f32)));
 }
 

@@ -205,9 +205,11 @@ impl AlbedoMap {
             // projected area cos(lat) cos(lon) · cos(lat) dlat dlon.
             let (mut s, mut ws) = (0.0f64, 0.0f64);
             for j in 0..h {
-                let lat = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * (j as f64 + 0.5) / h as f64;
+                let lat = std::f64::consts::FRAC_PI_2
+                    - std::f64::consts::PI * (j as f64 + 0.5) / h as f64;
                 for i in 0..w {
-                    let lon = -std::f64::consts::PI + std::f64::consts::TAU * (i as f64 + 0.5) / w as f64;
+                    let lon =
+                        -std::f64::consts::PI + std::f64::consts::TAU * (i as f64 + 0.5) / w as f64;
                     if lon.abs() >= std::f64::consts::FRAC_PI_2 {
                         continue;
                     }
@@ -517,12 +519,17 @@ pub fn eclipse_transfer(s: &LunarShadow, medium: &Medium, d_max: f64) -> Vec<Spe
     // the transmittance.
     let nh = 240;
     let h_top = 60.0;
-    let hs: Vec<f64> = (0..nh).map(|k| h_top * k as f64 / (nh - 1) as f64).collect();
+    let hs: Vec<f64> = (0..nh)
+        .map(|k| h_top * k as f64 / (nh - 1) as f64)
+        .collect();
     let sig: Vec<f64> = hs
         .iter()
         .map(|&h| pe * (1.0 + h / r_e) - GRAZING_REFRACTION * (-h / h_scale).exp())
         .collect();
-    let trans: Vec<Spectrum> = hs.iter().map(|&h| grazing_transmittance(medium, h)).collect();
+    let trans: Vec<Spectrum> = hs
+        .iter()
+        .map(|&h| grazing_transmittance(medium, h))
+        .collect();
     let sig_top = sig[nh - 1];
     let (nr, na) = (24usize, 48usize);
     let rs = s.sun_radius;
@@ -656,7 +663,8 @@ impl MoonShader {
         let base = refl * t_c;
         let rgb_c = w.to_rgb(&base);
         let sun_rgb = rgb_c.map(|c| c * e_scale);
-        let earth_rgb = rgb_c.map(|c| c * es_scale * (GEOMETRIC_ALBEDO / std::f64::consts::PI) as f32);
+        let earth_rgb =
+            rgb_c.map(|c| c * es_scale * (GEOMETRIC_ALBEDO / std::f64::consts::PI) as f32);
         // Extinction across the disk relative to the centre (16 samples in z).
         let zr = radius * 1.05;
         let (z0, z1) = (centre.z - zr, centre.z + zr);
@@ -754,7 +762,11 @@ impl MoonShader {
         let lat = sz.clamp(-1.0, 1.0).asin();
         let lon = sy.atan2(sx);
         let alb = self.map.sample(lon, lat);
-        let ls = if mu0 > 0.0 { mu0 / (mu0 + mu).max(1e-6) } else { 0.0 };
+        let ls = if mu0 > 0.0 {
+            mu0 / (mu0 + mu).max(1e-6)
+        } else {
+            0.0
+        };
         let direct = self.sun_factor * ls * alb;
         let mut sun = self.sun_rgb;
         if let Some(e) = &self.eclipse {
@@ -809,69 +821,6 @@ impl MoonShader {
 pub fn band_nm(b: usize) -> f64 {
     debug_assert!(b < BANDS);
     band_centre_nm(b)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn hapke_limits() {
-        assert_eq!(hapke_1963_b(0.0, HAPKE_H), 2.0);
-        assert!((hapke_s(0.0) - 1.0).abs() < 1e-12);
-        assert_eq!(hapke_1963_b(2.0, HAPKE_H), 1.0);
-        // Continuous near 0 and 90°.
-        assert!((hapke_1963_b(1e-6, HAPKE_H) - 2.0).abs() < 1e-3);
-        assert!((hapke_1963_b(1.5707, HAPKE_H) - 1.0).abs() < 0.01);
-        assert!(hapke_s(std::f64::consts::PI).is_finite());
-        assert!((surge_b(0.0) - 1.0 - SURGE_B0).abs() < 1e-12);
-        assert!(surge_b(std::f64::consts::PI).is_finite());
-        // Monotonic decrease of both surges; the new one halves within ~9°.
-        let (mut p1, mut p2) = (2.0, surge_b(0.0));
-        for k in 1..180 {
-            let g = (k as f64).to_radians();
-            let (b1, b2) = (hapke_1963_b(g, HAPKE_H), surge_b(g));
-            assert!(b1 <= p1 + 1e-12 && b2 <= p2 + 1e-12);
-            (p1, p2) = (b1, b2);
-        }
-        let half = 1.0 + SURGE_B0 / 2.0;
-        assert!(surge_b(8f64.to_radians()) < half && surge_b(9.5f64.to_radians()) < half + 0.1);
-    }
-
-    #[test]
-    fn albedo_map_orientation() {
-        // Mare Crisium (59° E, 17° N) is dark, the highlands south of it
-        // and Tycho's ray system (11° W, 43° S) are bright; Oceanus
-        // Procellarum (57° W, 10° N) is dark; the far side highlands bright.
-        let m = AlbedoMap::get();
-        let at = |lon: f32, lat: f32| m.sample(lon.to_radians(), lat.to_radians());
-        let crisium = at(59.0, 17.0);
-        let tycho = at(-11.4, -43.3);
-        let procellarum = at(-57.0, 10.0);
-        let far = at(180.0, 0.0);
-        assert!(crisium < 0.75 * tycho, "{crisium} {tycho}");
-        assert!(procellarum < 0.75 * far, "{procellarum} {far}");
-        // The mirrored places are not dark (a flipped map fails).
-        assert!(at(-59.0, 17.0) > crisium * 1.3, "{}", at(-59.0, 17.0));
-        assert!(at(59.0, -17.0) > crisium * 1.3);
-    }
-
-    #[test]
-    fn earthshine_magnitude() {
-        // Full Earth from the Moon: ~12 lx.
-        let e = earthshine_lux(127_000.0, 384_400.0, 0.0);
-        assert!((10.0..14.0).contains(&e), "{e}");
-        assert!(earthshine_lux(127_000.0, 384_400.0, std::f64::consts::PI) < 1e-6);
-    }
-
-    #[test]
-    fn reflectance_is_reddish_and_normalised() {
-        let r = lunar_reflectance_spectrum();
-        assert!(r.0[BANDS - 1] > r.0[0] * 1.5);
-        let w = BandWeights::solar();
-        assert!((w.to_y(&r) as f64 / w.solar_illuminance_lux() - 1.0).abs() < 1e-4);
-        assert!(band_nm(0) < band_nm(1));
-    }
 }
 
 /// The Moon's state for `observer` through `sky`, and the visible fraction
@@ -929,5 +878,72 @@ pub fn plan_moon(passes: &mut [crate::state::PlannedPass], scene: &crate::Scene,
                 moon.alt_refracted_deg
             ));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn hapke_limits() {
+        assert_eq!(hapke_1963_b(0.0, HAPKE_H), 2.0);
+        assert!((hapke_s(0.0) - 1.0).abs() < 1e-12);
+        assert_eq!(hapke_1963_b(2.0, HAPKE_H), 1.0);
+        // Continuous near 0 and 90°.
+        assert!((hapke_1963_b(1e-6, HAPKE_H) - 2.0).abs() < 1e-3);
+        assert!((hapke_1963_b(std::f64::consts::FRAC_PI_2 - 1e-4, HAPKE_H) - 1.0).abs() < 0.01);
+        assert!(hapke_s(std::f64::consts::PI).is_finite());
+        assert!((surge_b(0.0) - 1.0 - SURGE_B0).abs() < 1e-12);
+        assert!(surge_b(std::f64::consts::PI).is_finite());
+        // Monotonic decrease of both surges; the new one halves within ~9°.
+        let (mut p1, mut p2) = (2.0, surge_b(0.0));
+        for k in 1..180 {
+            let g = (k as f64).to_radians();
+            let (b1, b2) = (hapke_1963_b(g, HAPKE_H), surge_b(g));
+            assert!(b1 <= p1 + 1e-12 && b2 <= p2 + 1e-12);
+            (p1, p2) = (b1, b2);
+        }
+        // Half the surge at tan(g/2) = h (g ≈ 9.1°).
+        let half = 1.0 + SURGE_B0 / 2.0;
+        assert!((surge_b(2.0 * SURGE_H.atan()) - half).abs() < 1e-12);
+    }
+
+    #[test]
+    fn albedo_map_orientation() {
+        // Mare Crisium (59° E, 17° N) is dark, the highlands south of it
+        // and Tycho's ray system (11° W, 43° S) are bright; Oceanus
+        // Procellarum (57° W, 10° N) is dark; the far side highlands bright.
+        let m = AlbedoMap::get();
+        let at = |lon: f32, lat: f32| m.sample(lon.to_radians(), lat.to_radians());
+        let crisium = at(59.0, 17.0);
+        let tycho = at(-11.4, -43.3);
+        let procellarum = at(-57.0, 10.0);
+        let far = at(180.0, 0.0);
+        assert!(crisium < 0.75 * tycho, "{crisium} {tycho}");
+        assert!(procellarum < 0.75 * far, "{procellarum} {far}");
+        // The mirrored places are not dark (a flipped map fails): Mare
+        // Humorum (39° W, 24° S) against the highlands at 39° E, and
+        // Crisium against 17° S.
+        let humorum = at(-39.0, -24.0);
+        assert!(at(39.0, -24.0) > humorum * 1.5, "{humorum}");
+        assert!(at(59.0, -17.0) > crisium * 1.5);
+    }
+
+    #[test]
+    fn earthshine_magnitude() {
+        // Full Earth from the Moon: ~12 lx.
+        let e = earthshine_lux(127_000.0, 384_400.0, 0.0);
+        assert!((10.0..14.0).contains(&e), "{e}");
+        assert!(earthshine_lux(127_000.0, 384_400.0, std::f64::consts::PI) < 1e-6);
+    }
+
+    #[test]
+    fn reflectance_is_reddish_and_normalised() {
+        let r = lunar_reflectance_spectrum();
+        assert!(r.0[BANDS - 1] > r.0[0] * 1.5);
+        let w = BandWeights::solar();
+        assert!((w.to_y(&r) as f64 / w.solar_illuminance_lux() - 1.0).abs() < 1e-4);
+        assert!(band_nm(0) < band_nm(1));
     }
 }

@@ -144,8 +144,8 @@ impl SkyState {
             irradiance_scale,
             visible_fraction: 1.0,
         };
-        let (moon, visible_fraction) = crate::moon::moon_state(&sky, &observer, &sun)
-            .map_err(|e| SceneError {
+        let (moon, visible_fraction) =
+            crate::moon::moon_state(&sky, &observer, &sun).map_err(|e| SceneError {
                 field: "time.utc".into(),
                 message: e.to_string(),
             })?;
