@@ -470,7 +470,7 @@ impl MoonState {
 }
 
 /// Number of axis-distance samples of the eclipse table.
-pub const ECLIPSE_TABLE_N: usize = 256;
+pub const ECLIPSE_TABLE_N: usize = 160;
 
 /// Refraction of a ray grazing the Earth at sea level, from space to
 /// space: twice the horizontal refraction 34.5′ (Bennett 1982), radians.
@@ -510,7 +510,7 @@ pub fn grazing_transmittance(medium: &Medium, h: f64) -> Spectrum {
 /// Per-band sunlight (relative to the uneclipsed Sun, 1 = full sunlight)
 /// reaching lunar points at axis distances `d = d_max · k / (N − 1)`,
 /// `k = 0..N` (see the module documentation), integrated over the solar
-/// disk (uniform) with 24 × 48 samples.
+/// disk (uniform) with 16 × 32 samples.
 pub fn eclipse_transfer(s: &LunarShadow, medium: &Medium, d_max: f64) -> Vec<Spectrum> {
     let pe = s.earth_radius;
     let r_e = EARTH_RADIUS_KM;
@@ -531,7 +531,7 @@ pub fn eclipse_transfer(s: &LunarShadow, medium: &Medium, d_max: f64) -> Vec<Spe
         .map(|&h| grazing_transmittance(medium, h))
         .collect();
     let sig_top = sig[nh - 1];
-    let (nr, na) = (24usize, 48usize);
+    let (nr, na) = (16usize, 32usize);
     let rs = s.sun_radius;
     (0..ECLIPSE_TABLE_N)
         .map(|k| {
