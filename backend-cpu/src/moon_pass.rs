@@ -103,7 +103,8 @@ fn bounding_box(
 /// The inner corona around an eclipsed Sun (run by the Sun pass when the
 /// Moon hides part of the disk; against the uneclipsed daylight sky the
 /// corona, ~10⁻⁶ of the disk's radiance, is invisible): Baumbach's profile
-/// ([`himmel_skymodel::sun::corona_relative`]) out to 6 solar radii times
+/// ([`himmel_skymodel::sun::corona_relative`], less its value at 6 solar
+/// radii, where the drawing ends) times
 /// the disk's mean radiance and the transmittance along the line of sight,
 /// hidden by the Moon's disk (anti-aliased).
 pub fn render_corona(
@@ -136,7 +137,9 @@ pub fn render_corona(
                 return;
             }
             let r = d.cross(sun).length().atan2(d.dot(sun)) / rs;
-            let rel = himmel_skymodel::sun::corona_relative(r as f64) as f32;
+            // Minus the value at 6 R☉ so that the drawn corona ends without a step.
+            let rel = (himmel_skymodel::sun::corona_relative(r as f64)
+                - himmel_skymodel::sun::corona_relative(6.0)) as f32;
             if rel <= 0.0 {
                 return;
             }
