@@ -442,3 +442,46 @@ fn solar_eclipse_2024_04_08_dallas() {
     let img = render(&p, &st).image;
     assert!(img.pixels.iter().any(|p| luminance(*p) > 1e8));
 }
+
+#[test]
+fn the_moon_is_opaque_and_its_limb_anti_aliased() {
+    let d = &dates_with_phase(120.0)[0];
+    let (lat, lon) = site_for(&utc(d));
+    let (s, st) = moon_scene(d, lat, lon, 128, vec![Effect::Moon]);
+    let dirs = himmel_cpu::directions(&s.camera);
+    let clean = render(&s, &st).image.pixels;
+    // A "star field" already in the buffer: the Moon must replace it.
+    let star = [50.0f32, 40.0, 30.0];
+    let mut pixels = vec![star; clean.len()];
+    himmel_cpu::moon_pass::render(&mut pixels, &dirs, 128, &s, &st, None, 0.0);
+    let centre = st.moon.dir().as_vec3();
+    let r = st.moon.angular_radius as f32;
+    let px = s.camera.max_pixel_angle() as f32;
+    let (mut inside, mut edge, mut hidden) = (0, 0, 0.0f64);
+    for ((p, c), d) in pixels.iter().zip(&clean).zip(&dirs) {
+        let g = d.unwrap().angle_between(centre);
+        if g < r - px {
+            // Inside (the dark side too, lit only by earthshine ≪ the star value).
+            for k in 0..3 {
+                assert!(
+                    (p[k] - c[k]).abs() <= 1e-4 * c[k].abs() + 1e-6,
+                    "{p:?} {c:?}"
+                );
+            }
+            inside += 1;
+        } else if g > r + px {
+            assert_eq!(*p, star);
+        } else {
+            // The limb: p = star (1 − coverage) + Moon × coverage, where the
+            // clean render holds Moon × coverage: the star shows only partly.
+            let left = (p[1] - c[1]) / star[1];
+            assert!((-1e-4..=1.0 + 1e-4).contains(&left), "{p:?} {c:?}");
+            hidden += 1.0 - left as f64;
+            edge += 1;
+        }
+    }
+    assert!(inside > 1000 && edge > 50, "{inside} {edge}");
+    // Over the two-pixel band around the limb about half of the star is hidden.
+    let mean_hidden = hidden / edge as f64;
+    assert!((0.3..0.7).contains(&mean_hidden), "{mean_hidden}");
+}

@@ -661,7 +661,8 @@ impl MoonShader {
         let e_scale = (moon.sun_illuminance_lux / w.solar_illuminance_lux()) as f32;
         let es_scale = (moon.earthshine_lux / w.solar_illuminance_lux()) as f32;
         let base = refl * t_c;
-        let rgb_c = w.to_rgb(&base);
+        // Deep-red light near the horizon can leave the sRGB gamut: clip.
+        let rgb_c = crate::spectrum::clip_to_gamut(w.to_rgb(&base));
         let sun_rgb = rgb_c.map(|c| c * e_scale);
         let earth_rgb =
             rgb_c.map(|c| c * es_scale * (GEOMETRIC_ALBEDO / std::f64::consts::PI) as f32);
@@ -672,7 +673,7 @@ impl MoonShader {
         let ext: Vec<[f32; 3]> = (0..n)
             .map(|k| {
                 let z = z0 + (z1 - z0) * k as f32 / (n - 1) as f32;
-                let c = w.to_rgb(&(refl * trans_at(z)));
+                let c = crate::spectrum::clip_to_gamut(w.to_rgb(&(refl * trans_at(z))));
                 [0, 1, 2].map(|i| if rgb_c[i] > 0.0 { c[i] / rgb_c[i] } else { 0.0 })
             })
             .collect();
@@ -687,7 +688,7 @@ impl MoonShader {
                 let table = spec
                     .iter()
                     .map(|f| {
-                        let c = w.to_rgb(&(*f * base));
+                        let c = crate::spectrum::clip_to_gamut(w.to_rgb(&(*f * base)));
                         [0, 1, 2].map(|i| if rgb_c[i] > 0.0 { c[i] / rgb_c[i] } else { 0.0 })
                     })
                     .collect();
@@ -945,5 +946,66 @@ mod tests {
         let w = BandWeights::solar();
         assert!((w.to_y(&r) as f64 / w.solar_illuminance_lux() - 1.0).abs() < 1e-4);
         assert!(band_nm(0) < band_nm(1));
+    }
+}
+
+#[cfg(test)]
+mod eclipse_tests {
+    use super::*;
+    use crate::spectrum::clip_to_gamut;
+
+    /// A central eclipse at the mean distance: Danjon radii ρu ≈ 0.70°, ρp ≈ 1.23°.
+    #[test]
+    fn shadow_profile_red_umbra_blue_fringe_penumbra() {
+        let d_moon = 384_400.0f64;
+        let s = LunarShadow {
+            offset_east: 0.0,
+            offset_north: 0.0,
+            moon_semidiameter: (1737.4 / d_moon).asin(),
+            umbra_radius: 0.0121,
+            penumbra_radius: 0.0215,
+            umbral_magnitude: 1.0,
+            penumbral_magnitude: 2.0,
+            earth_radius: (EARTH_RADIUS_KM / d_moon).asin(),
+            sun_parallax: 4.26e-5,
+            sun_radius: 0.00465,
+            sky_to_geo: [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]],
+        };
+        let m = Medium::new(&crate::atmosphere::AtmosphereParams::default());
+        let d_max = 0.025;
+        let t = eclipse_transfer(&s, &m, d_max);
+        let w = BandWeights::solar();
+        let r = lunar_reflectance_spectrum();
+        let c0 = w.to_rgb(&r);
+        let at = |deg: f64| {
+            let k = ((deg.to_radians() / d_max) * (ECLIPSE_TABLE_N - 1) as f64).round() as usize;
+            let c = clip_to_gamut(w.to_rgb(&(t[k] * r)));
+            (
+                luminance(c) / luminance(c0),
+                (c[0] / c[2].max(1e-30)) / (c0[0] / c0[2]),
+            )
+        };
+        // Outside the penumbra: full sunlight; inside it: the visible part of the Sun.
+        assert!((at(1.3).0 - 1.0).abs() < 1e-3);
+        let mid = at(0.96).0;
+        assert!((0.3..0.75).contains(&mid), "{mid}");
+        // The umbra: dark, red, darker towards the centre.
+        let (y_centre, rb_centre) = at(0.0);
+        let (y_half, rb_half) = at(0.35);
+        assert!(y_centre < y_half && y_half < 1e-3, "{y_centre} {y_half}");
+        assert!(y_centre > 1e-7, "{y_centre}");
+        assert!(rb_centre > 5.0 && rb_half > 5.0, "{rb_centre} {rb_half}");
+        // The umbra's edge sits near Danjon's radius (the light jumps by 10×
+        // between 0.66° and 0.73°), and there the light is bluer than
+        // sunlight: the ozone fringe.
+        assert!(at(0.73).0 > 10.0 * at(0.66).0);
+        let bluest = (660..730)
+            .map(|k| at(k as f64 / 1000.0).1)
+            .fold(f32::MAX, f32::min);
+        assert!(bluest < 0.95, "{bluest}");
+        // Monotonic brightening outwards.
+        for k in 1..ECLIPSE_TABLE_N {
+            assert!(w.to_y(&t[k]) >= w.to_y(&t[k - 1]) * 0.999, "{k}");
+        }
     }
 }
