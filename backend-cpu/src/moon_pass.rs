@@ -29,7 +29,7 @@ pub fn render(
     let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
     let shader = MoonShader::new(&state.moon, scene.moon_scale, luts, r0, pole);
     let cam: &Camera = &scene.camera;
-    let pixel = cam.max_pixel_angle() as f32;
+    let pixel = local_pixel_angle(cam, shader.centre.as_dvec3()) as f32;
     // f32 dot products resolve ~0.02° near 1: keep the margin above that.
     let cos_bound = shader.cos_bound((2.0 * pixel).max(1e-3));
     let h = pixels.len() / w.max(1);
@@ -37,20 +37,39 @@ pub fn render(
     if x0 >= x1 || y0 >= y1 {
         return;
     }
+    // Small disks (a few pixels across, e.g. all-sky images) are
+    // supersampled so that the light and the shape stay right; large ones
+    // use the analytic edge coverage.
+    let r_px = shader.radius / pixel;
+    let n = if r_px < 4.0 {
+        8
+    } else if r_px < 16.0 {
+        4
+    } else {
+        0
+    };
     pixels
         .par_chunks_mut(w)
         .zip(dirs.par_chunks(w))
         .enumerate()
         .skip(y0)
         .take(y1 - y0)
-        .for_each(|(_, (row, drow))| {
+        .for_each(|(y, (row, drow))| {
             for x in x0..x1 {
                 let Some(d) = drow[x] else { continue };
-                // The ground hides the Moon below the horizon.
-                if d.z < 0.0 || d.dot(shader.centre) < cos_bound {
+                if d.dot(shader.centre) < cos_bound {
                     continue;
                 }
-                if let Some((l, cov)) = shader.shade(d, pixel) {
+                let shaded = if n == 0 {
+                    // The ground hides the Moon below the horizon.
+                    if d.z < 0.0 {
+                        continue;
+                    }
+                    shader.shade(d, pixel)
+                } else {
+                    supersample(cam, &shader, x, y, n)
+                };
+                if let Some((l, cov)) = shaded {
                     let p = &mut row[x];
                     for k in 0..3 {
                         p[k] = p[k] * (1.0 - cov) + l[k] * cov;
@@ -58,6 +77,69 @@ pub fn render(
                 }
             }
         });
+}
+
+/// Mean radiance of the disk's part of pixel (x, y) and its coverage, from
+/// n × n sub-samples (those below the horizon are hidden by the ground).
+fn supersample(
+    cam: &Camera,
+    shader: &MoonShader,
+    x: usize,
+    y: usize,
+    n: usize,
+) -> Option<([f32; 3], f32)> {
+    let mut acc = [0.0f32; 3];
+    let mut hits = 0usize;
+    for j in 0..n {
+        for i in 0..n {
+            let sx = x as f64 + (i as f64 + 0.5) / n as f64;
+            let sy = y as f64 + (j as f64 + 0.5) / n as f64;
+            let Some(sd) = cam.pixel_to_dir(sx, sy) else {
+                continue;
+            };
+            let sd = sd.as_vec3();
+            if sd.z < 0.0 || !shader.covers_exact(sd) {
+                continue;
+            }
+            let l = shader.radiance(shader.surface_point(sd), sd.z);
+            for k in 0..3 {
+                acc[k] += l[k];
+            }
+            hits += 1;
+        }
+    }
+    if hits == 0 {
+        return None;
+    }
+    let inv = 1.0 / hits as f32;
+    Some((acc.map(|v| v * inv), hits as f32 / (n * n) as f32))
+}
+
+/// The angular size of a pixel at direction `c` (geometric mean of its
+/// two sides, so that the anti-aliased edge keeps the disk's area); the
+/// camera's largest pixel angle where `c` is not in the image.
+pub fn local_pixel_angle(cam: &Camera, c: glam::DVec3) -> f64 {
+    let fallback = cam.max_pixel_angle();
+    let Some((x, y)) = cam.dir_to_pixel(c) else {
+        return fallback;
+    };
+    let at = |x: f64, y: f64| cam.pixel_to_dir(x, y);
+    match (
+        at(x - 0.5, y),
+        at(x + 0.5, y),
+        at(x, y - 0.5),
+        at(x, y + 0.5),
+    ) {
+        (Some(a), Some(b), Some(u), Some(v)) => {
+            let s = (a.angle_between(b) * u.angle_between(v)).sqrt();
+            if s.is_finite() && s > 0.0 {
+                s
+            } else {
+                fallback
+            }
+        }
+        _ => fallback,
+    }
 }
 
 /// Pixel bounding box [x0, x1) × [y0, y1) of the disk plus two pixels.

@@ -409,6 +409,29 @@ fn solar_eclipse_2024_04_08_dallas() {
     );
     assert!(st.sun.visible_fraction < 1e-3);
     assert!(total < before / 300.0);
+    // The visible fraction is the astronomy module's.
+    for t in [
+        "2024-04-08T18:20:00Z",
+        "2024-04-08T18:42:39Z",
+        "2024-04-08T19:30:00Z",
+    ] {
+        let mut q = s.clone();
+        q.time.utc = t.into();
+        let st = SkyState::at(&q).unwrap();
+        let obs = himmel_astro::Observer::new(32.7767, -96.797, 0.0).unwrap();
+        let i = Instant::from_utc(&utc(t)).unwrap();
+        let want = himmel_astro::events::solar_eclipse::sun_visible_fraction(
+            &himmel_astro::Tiered(Precision::Standard),
+            &obs,
+            &i,
+        )
+        .unwrap();
+        eprintln!(
+            "{t}: visible fraction {:.4} (astro {want:.4})",
+            st.sun.visible_fraction
+        );
+        assert!((st.sun.visible_fraction - want).abs() < 1e-9);
+    }
     // Lit by the corona, not black.
     assert!(total > 0.0);
     // Nothing brighter than 1e5 cd/m² within 1° of the Sun.
@@ -484,4 +507,30 @@ fn the_moon_is_opaque_and_its_limb_anti_aliased() {
     // Over the two-pixel band around the limb about half of the star is hidden.
     let mean_hidden = hidden / edge as f64;
     assert!((0.3..0.7).contains(&mean_hidden), "{mean_hidden}");
+}
+
+#[test]
+fn a_small_moon_in_a_fisheye_keeps_its_light() {
+    // In a 512² all-sky image the Moon is ~1.5 px across: the analytic
+    // coverage must still carry the right illuminance.
+    let d = &dates_with_phase(30.0)[0];
+    let (lat, lon) = site_for(&utc(d));
+    let (s, st) = moon_scene(d, lat, lon, 256, vec![Effect::Moon]);
+    let e_persp = illuminance(&s, &render(&s, &st).image);
+    let mut f = s.clone();
+    f.camera.projection = Projection::Fisheye;
+    f.camera.width = 512;
+    f.camera.height = 512;
+    let st = SkyState::at(&f).unwrap();
+    let img = render(&f, &st).image;
+    let dirs = himmel_cpu::directions(&f.camera);
+    // Equidistant fisheye: dΩ = (π/2 / R)² · sin θ / θ per pixel.
+    let k = std::f64::consts::FRAC_PI_2 / 256.0;
+    let mut e = 0.0;
+    for (p, d) in img.pixels.iter().zip(&dirs) {
+        let th = (d.unwrap().z as f64).clamp(-1.0, 1.0).acos().max(1e-9);
+        e += luminance(*p) as f64 * k * k * th.sin() / th;
+    }
+    eprintln!("fisheye {e:.4e} lx vs perspective {e_persp:.4e} lx");
+    assert!((e / e_persp - 1.0).abs() < 0.05, "{e} {e_persp}");
 }

@@ -735,6 +735,14 @@ impl MoonShader {
         d.dot(self.centre) >= self.cos_radius
     }
 
+    /// Whether the unit direction `d` falls on the drawn disk, from the
+    /// sine of the angle to the centre (accurate in f32 for small disks,
+    /// unlike the cosine test of [`MoonShader::covers`]).
+    #[inline]
+    pub fn covers_exact(&self, d: Vec3) -> bool {
+        d.dot(self.centre) > 0.0 && d.cross(self.centre).length() < self.sin_radius
+    }
+
     /// The point of the lunar sphere seen in direction `d` in the sky frame
     /// (x east, y north, z towards the observer; unit Moon radii), with `d`
     /// pulled onto the disk if it misses.
