@@ -1,6 +1,7 @@
 //! `himmel render` with the Moon: `--stats` reports the Moon, the eclipse
 //! shading and the culling reason.
 
+#[allow(dead_code)] // `json` is for the other CLI tests.
 mod common;
 
 use common::himmel;
