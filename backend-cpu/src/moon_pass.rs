@@ -27,7 +27,14 @@ pub fn render(
     r0: f32,
 ) {
     let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
-    let shader = MoonShader::new(&state.moon, scene.moon_scale, luts, r0, pole);
+    let shader = MoonShader::new(
+        &state.moon,
+        scene.moon_scale,
+        luts,
+        r0,
+        pole,
+        &scene.atmosphere,
+    );
     let cam: &Camera = &scene.camera;
     let pixel = local_pixel_angle(cam, shader.centre.as_dvec3()) as f32;
     // f32 dot products resolve ~0.02° near 1: keep the margin above that.

@@ -86,7 +86,7 @@ use himmel_astro::events::ShadowGeometry;
 use serde::Serialize;
 
 use crate::atmosphere::{AtmosphereLuts, Medium};
-use crate::spectrum::{band_centre_nm, luminance, BandWeights, Spectrum, BANDS};
+use crate::spectrum::{luminance, BandWeights, Spectrum};
 use crate::units::{Lux, Radians};
 
 /// Hapke's (1963) compaction parameter h′ of the lunar regolith (his "g"),
@@ -625,13 +625,16 @@ impl MoonShader {
     /// The shader for `moon` drawn `scale` times its true size; with
     /// `luts` the extinction along the line of sight from radius `r0` (km
     /// from the Earth's centre) is applied; `celestial_pole` is the ENU
-    /// direction of the celestial north pole.
+    /// direction of the celestial north pole; `atmosphere` is the Earth's
+    /// atmosphere that refracts sunlight into the umbra during a lunar
+    /// eclipse (used whether or not the atmosphere pass runs).
     pub fn new(
         moon: &MoonState,
         scale: f64,
         luts: Option<&AtmosphereLuts>,
         r0: f32,
         celestial_pole: Vec3,
+        atmosphere: &crate::atmosphere::AtmosphereParams,
     ) -> MoonShader {
         let centre = moon.dir().as_vec3().normalize();
         let radius = (moon.angular_radius * scale).clamp(1e-6, 0.5) as f32;
@@ -677,12 +680,9 @@ impl MoonShader {
                 [0, 1, 2].map(|i| if rgb_c[i] > 0.0 { c[i] / rgb_c[i] } else { 0.0 })
             })
             .collect();
-        let eclipse = match (&moon.eclipse, luts) {
-            (Some(s), l) => {
-                let medium = match l {
-                    Some(l) => l.medium.clone(),
-                    None => Medium::new(&crate::atmosphere::AtmosphereParams::default()),
-                };
+        let eclipse = match &moon.eclipse {
+            Some(s) => {
+                let medium = Medium::new(atmosphere);
                 let d_max = s.penumbra_radius + 2.0 * s.sun_radius;
                 let spec = eclipse_transfer(s, &medium, d_max);
                 let table = spec
@@ -701,7 +701,7 @@ impl MoonShader {
                     table,
                 })
             }
-            _ => None,
+            None => None,
         };
         MoonShader {
             centre,
@@ -826,12 +826,6 @@ impl MoonShader {
     }
 }
 
-/// Mean band value helper for the tests: the centre wavelength of band `b`.
-pub fn band_nm(b: usize) -> f64 {
-    debug_assert!(b < BANDS);
-    band_centre_nm(b)
-}
-
 /// The Moon's state for `observer` through `sky`, and the visible fraction
 /// of the Sun's disk (1 − the uniform-disk overlap of the topocentric disks
 /// of the Sun and the Moon; the Sun's limb darkening is not weighted in).
@@ -893,6 +887,7 @@ pub fn plan_moon(passes: &mut [crate::state::PlannedPass], scene: &crate::Scene,
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::spectrum::{band_centre_nm, BANDS};
 
     #[test]
     fn hapke_limits() {
@@ -951,6 +946,7 @@ mod tests {
     fn reflectance_is_reddish_and_normalised() {
         let r = lunar_reflectance_spectrum();
         assert!(r.0[BANDS - 1] > r.0[0] * 1.5);
+        assert!(band_centre_nm(BANDS - 1) > 700.0);
         let w = BandWeights::solar();
         assert!((w.to_y(&r) as f64 / w.solar_illuminance_lux() - 1.0).abs() < 1e-4);
         assert!(band_nm(0) < band_nm(1));
