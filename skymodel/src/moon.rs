@@ -49,6 +49,12 @@
 //! against the Sun's 0.65 (Allen §12.5, §14.5) and is normalised to 1 in V
 //! (luminance under the solar spectrum).
 //!
+//! Relief: μ0 and μ use the normal of Stellarium's lunar normal map
+//! ([`NormalMap`]) instead of the sphere's, so that craters and mountains
+//! cast their shading near the terminator; at full phase (μ0 = μ) the law
+//! is unchanged, so the calibration holds. Points beyond the sphere's
+//! terminator stay dark (the map has no self-shadowing).
+//!
 //! ## Earthshine
 //!
 //! The Earth lights the Moon with E⊕ = p⊕ · E☉ · (R⊕ / d)² · Φ(α⊕), where
@@ -244,6 +250,61 @@ impl AlbedoMap {
         let a = d[j0 * self.w + i0] * (1.0 - fu) + d[j0 * self.w + i1] * fu;
         let b = d[j1 * self.w + i0] * (1.0 - fu) + d[j1 * self.w + i1] * fu;
         a * (1.0 - fv) + b * fv
+    }
+}
+
+/// The lunar normal map: the surface normal's east and north components
+/// (tangent frame of the mean sphere) on a 512 × 256 equirectangular grid
+/// laid out like [`AlbedoMap`], from Stellarium's public-domain
+/// `moon_normals.png` (converted by `tools/moon_normals.py`). Used to shade
+/// the relief near the terminator.
+#[derive(Debug, Clone)]
+pub struct NormalMap {
+    /// Width in texels.
+    pub w: usize,
+    /// Height in texels.
+    pub h: usize,
+    /// (east, north) components, row-major.
+    pub data: Vec<[f32; 2]>,
+}
+
+static NORMAL_BYTES: &[u8] = include_bytes!("../data/moon_normals_512x256.u8");
+
+impl NormalMap {
+    /// The embedded map, decoded once.
+    pub fn get() -> &'static NormalMap {
+        static MAP: OnceLock<NormalMap> = OnceLock::new();
+        MAP.get_or_init(|| NormalMap {
+            w: 512,
+            h: 256,
+            data: NORMAL_BYTES
+                .chunks_exact(2)
+                .map(|c| [c[0] as f32 / 127.5 - 1.0, c[1] as f32 / 127.5 - 1.0])
+                .collect(),
+        })
+    }
+
+    /// (east, north) normal components at selenographic `lon`, `lat`
+    /// (radians), bilinear.
+    #[inline]
+    pub fn sample(&self, lon: f32, lat: f32) -> [f32; 2] {
+        let u = (lon / std::f32::consts::TAU + 0.5) * self.w as f32 - 0.5;
+        let v = ((0.5 - lat / std::f32::consts::PI) * self.h as f32 - 0.5)
+            .clamp(0.0, (self.h - 1) as f32);
+        let (i0, j0) = (u.floor(), v.floor());
+        let (fu, fv) = (u - i0, v - j0);
+        let i0 = (i0 as i32).rem_euclid(self.w as i32) as usize;
+        let i1 = (i0 + 1) % self.w;
+        let j0 = j0 as usize;
+        let j1 = (j0 + 1).min(self.h - 1);
+        let d = &self.data;
+        let mut out = [0.0f32; 2];
+        for k in 0..2 {
+            let a = d[j0 * self.w + i0][k] * (1.0 - fu) + d[j0 * self.w + i1][k] * fu;
+            let b = d[j1 * self.w + i0][k] * (1.0 - fu) + d[j1 * self.w + i1][k] * fu;
+            out[k] = a * (1.0 - fv) + b * fv;
+        }
+        out
     }
 }
 
@@ -609,6 +670,7 @@ pub struct MoonShader {
     /// Eclipse table (RGB, relative to `sun_rgb`'s normalisation) and geometry.
     eclipse: Option<EclipseShader>,
     map: &'static AlbedoMap,
+    normals: &'static NormalMap,
 }
 
 #[derive(Debug, Clone)]
@@ -720,6 +782,7 @@ impl MoonShader {
             ext,
             eclipse,
             map: AlbedoMap::get(),
+            normals: NormalMap::get(),
         }
     }
 
@@ -764,13 +827,31 @@ impl MoonShader {
     /// ENU z component `z`.
     #[inline]
     pub fn radiance(&self, p: Vec3, z: f32) -> [f32; 3] {
-        let mu = p.z.max(0.0);
-        let mu0 = p.dot(self.sun);
         let a = &self.axes;
         let (sx, sy, sz) = (p.dot(a[0]), p.dot(a[1]), p.dot(a[2]));
         let lat = sz.clamp(-1.0, 1.0).asin();
         let lon = sy.atan2(sx);
         let alb = self.map.sample(lon, lat);
+        // Relief: the normal map's east/north tilt in the local tangent
+        // frame (east = Z × p / cos lat, north = (Z − sin lat · p) / cos lat).
+        let cl = (sx * sx + sy * sy).sqrt();
+        let n = if cl > 1e-4 {
+            let [te, tn] = self.normals.sample(lon, lat);
+            let east = a[2].cross(p) / cl;
+            let north = (a[2] - p * sz) / cl;
+            let up = (1.0 - te * te - tn * tn).max(0.0).sqrt();
+            east * te + north * tn + p * up
+        } else {
+            p
+        };
+        let mu = n.z.max(0.0);
+        // Beyond the sphere's terminator the body's curvature shadows every
+        // facet (the map carries no self-shadowing).
+        let mu0 = if p.dot(self.sun) > 0.0 {
+            n.dot(self.sun)
+        } else {
+            0.0
+        };
         let ls = if mu0 > 0.0 {
             mu0 / (mu0 + mu).max(1e-6)
         } else {
