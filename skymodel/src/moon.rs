@@ -308,6 +308,40 @@ impl NormalMap {
     }
 }
 
+/// atan2(y, x) in f32 with a degree-11 odd minimax polynomial for atan on
+/// [−1, 1] (max error 2 × 10⁻⁶ rad; coefficients of the classic
+/// Hastings-type fit, cf. Abramowitz & Stegun 4.4.49); for texture lookups.
+#[inline]
+pub fn fast_atan2(y: f32, x: f32) -> f32 {
+    let (ax, ay) = (x.abs(), y.abs());
+    let (num, den, swap) = if ay > ax {
+        (ax, ay, true)
+    } else {
+        (ay, ax, false)
+    };
+    if den == 0.0 {
+        return 0.0;
+    }
+    let t = num / den;
+    let t2 = t * t;
+    let mut a = t
+        * (0.999_977_26
+            + t2 * (-0.332_623_47
+                + t2 * (0.193_543_46
+                    + t2 * (-0.116_432_87 + t2 * (0.052_653_32 + t2 * -0.011_721_2)))));
+    if swap {
+        a = std::f32::consts::FRAC_PI_2 - a;
+    }
+    if x < 0.0 {
+        a = std::f32::consts::PI - a;
+    }
+    if y < 0.0 {
+        -a
+    } else {
+        a
+    }
+}
+
 /// Lunar-eclipse geometry for the shader: the Earth's shadow relative to
 /// the Moon (from [`ShadowGeometry`], geocentric).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
@@ -829,12 +863,12 @@ impl MoonShader {
     pub fn radiance(&self, p: Vec3, z: f32) -> [f32; 3] {
         let a = &self.axes;
         let (sx, sy, sz) = (p.dot(a[0]), p.dot(a[1]), p.dot(a[2]));
-        let lat = sz.clamp(-1.0, 1.0).asin();
-        let lon = sy.atan2(sx);
+        let cl = (sx * sx + sy * sy).sqrt();
+        let lat = fast_atan2(sz, cl);
+        let lon = fast_atan2(sy, sx);
         let alb = self.map.sample(lon, lat);
         // Relief: the normal map's east/north tilt in the local tangent
         // frame (east = Z × p / cos lat, north = (Z − sin lat · p) / cos lat).
-        let cl = (sx * sx + sy * sy).sqrt();
         let n = if cl > 1e-4 {
             let [te, tn] = self.normals.sample(lon, lat);
             let east = a[2].cross(p) / cl;
@@ -890,14 +924,20 @@ impl MoonShader {
     /// the pixel does not touch the disk.
     #[inline]
     pub fn shade(&self, d: Vec3, pixel: f32) -> Option<([f32; 3], f32)> {
-        let c = d.dot(self.centre);
-        let s = d.cross(self.centre).length();
-        let gamma = s.atan2(c);
-        let cov = ((self.radius - gamma) / pixel + 0.5).clamp(0.0, 1.0);
-        if cov <= 0.0 {
+        // Offsets on the sky in units of the disk's radius: the angle from
+        // the centre is ≈ r · radius (orthographic, as in surface_point).
+        let x = d.dot(self.east) / self.sin_radius;
+        let y = d.dot(self.north) / self.sin_radius;
+        let r = (x * x + y * y).sqrt();
+        let cov = ((1.0 - r) * self.radius / pixel + 0.5).clamp(0.0, 1.0);
+        if cov <= 0.0 || d.dot(self.centre) <= 0.0 {
             return None;
         }
-        let p = self.surface_point(d);
+        let p = if r >= 1.0 {
+            Vec3::new(x / r, y / r, 0.0)
+        } else {
+            Vec3::new(x, y, (1.0 - r * r).sqrt())
+        };
         Some((self.radiance(p, d.z), cov))
     }
 
@@ -1013,6 +1053,22 @@ mod tests {
         let humorum = at(-39.0, -24.0);
         assert!(at(39.0, -24.0) > humorum * 1.5, "{humorum}");
         assert!(at(59.0, -17.0) > crisium * 1.5);
+    }
+
+    #[test]
+    fn fast_atan2_matches_std() {
+        let mut worst = 0.0f32;
+        for i in 0..400 {
+            for j in 0..400 {
+                let (x, y) = (-2.0 + i as f32 * 0.01, -2.0 + j as f32 * 0.01);
+                if x == 0.0 && y == 0.0 {
+                    continue;
+                }
+                worst = worst.max((fast_atan2(y, x) - y.atan2(x)).abs());
+            }
+        }
+        assert!(worst < 1e-5, "{worst}");
+        assert_eq!(fast_atan2(0.0, 0.0), 0.0);
     }
 
     #[test]
