@@ -869,8 +869,12 @@ impl MoonShader {
         let alb = self.map.sample(lon, lat);
         // Relief: the normal map's east/north tilt in the local tangent
         // frame (east = Z × p / cos lat, north = (Z − sin lat · p) / cos lat).
-        let n = if cl > 1e-4 {
+        // Faded out towards the limb (μ < 0.2), where the foreshortened
+        // relief would only add noise to μ → 0.
+        let fade = (p.z * 5.0).min(1.0);
+        let n = if cl > 1e-4 && fade > 0.0 {
             let [te, tn] = self.normals.sample(lon, lat);
+            let (te, tn) = (te * fade, tn * fade);
             let east = a[2].cross(p) / cl;
             let north = (a[2] - p * sz) / cl;
             let up = (1.0 - te * te - tn * tn).max(0.0).sqrt();
