@@ -534,3 +534,48 @@ fn a_small_moon_in_a_fisheye_keeps_its_light() {
     eprintln!("fisheye {e:.4e} lx vs perspective {e_persp:.4e} lx");
     assert!((e / e_persp - 1.0).abs() < 0.05, "{e} {e_persp}");
 }
+
+#[test]
+fn a_low_moon_is_flattened_by_refraction() {
+    // Near full Moon, about 1° above the horizon (true altitude), no atmosphere pass.
+    let d = &dates_with_phase(5.0)[0];
+    let mut s = Scene::default();
+    s.time.utc = d.clone();
+    s.observer.lat_deg = 0.0;
+    s.effects = vec![Effect::Moon];
+    s.camera.projection = Projection::Perspective;
+    s.camera.width = 256;
+    s.camera.height = 256;
+    s.camera.fov_deg = 1.0;
+    let mut found = None;
+    for k in 0..7200 {
+        s.observer.lon_deg = -180.0 + k as f64 * 0.05;
+        let st = SkyState::at(&s).unwrap();
+        if (0.9..1.0).contains(&st.moon.alt_deg) {
+            found = Some(st);
+            break;
+        }
+    }
+    let st = found.expect("a longitude with the Moon 1° high");
+    s.camera.yaw_deg = st.moon.az_deg;
+    s.camera.pitch_deg = st.moon.alt_refracted_deg;
+    let st = SkyState::at(&s).unwrap();
+    let img = render(&s, &st).image;
+    let (mut rows, mut cols) = (vec![false; 256], vec![false; 256]);
+    for (i, p) in img.pixels.iter().enumerate() {
+        if luminance(*p) > 0.0 {
+            rows[i / 256] = true;
+            cols[i % 256] = true;
+        }
+    }
+    let count = |v: &[bool]| v.iter().filter(|&&b| b).count() as f64;
+    let measured = count(&rows) / count(&cols);
+    // Expected: the apparent top and bottom limbs (Saemundsson) over the diameter.
+    let r = st.moon.angular_radius;
+    let app = |alt: f64| alt + himmel_astro::frames::refraction_true_to_apparent(alt, 1010.0, 10.0);
+    let a = st.moon.alt_deg.to_radians();
+    let expected = (app(a + r) - app(a - r)) / (2.0 * r);
+    eprintln!("low Moon: rows/cols {measured:.3}, expected {expected:.3}");
+    assert!(expected < 0.93);
+    assert!((measured - expected).abs() < 0.02, "{measured} {expected}");
+}

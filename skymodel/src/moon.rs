@@ -564,6 +564,30 @@ impl MoonState {
     }
 }
 
+/// Below this refracted altitude (degrees) the Moon is drawn with the
+/// differential refraction across its disk (it flattens the disk by 0.8 %
+/// at 10°, 3 % at 5° and 20 % at the horizon).
+pub const REFRACTION_FRAME_BELOW_DEG: f64 = 15.0;
+
+/// The airless direction of the apparent (refracted) direction `d` (ENU,
+/// unit): its altitude lowered by Bennett's refraction (Meeus eq. 16.3,
+/// standard 1010 hPa, 10 °C), azimuth kept.
+#[inline]
+pub fn unrefract(d: Vec3) -> Vec3 {
+    let alt = d.z.clamp(-1.0, 1.0).asin();
+    let r = himmel_astro::frames::refraction_apparent_to_true(
+        alt as f64,
+        himmel_astro::frames::STANDARD_PRESSURE_HPA,
+        himmel_astro::frames::STANDARD_TEMPERATURE_C,
+    ) as f32;
+    let hz = (d.x * d.x + d.y * d.y).sqrt();
+    if hz < 1e-9 {
+        return d;
+    }
+    let (s, c) = (alt - r).sin_cos();
+    Vec3::new(d.x / hz * c, d.y / hz * c, s)
+}
+
 /// Number of axis-distance samples of the eclipse table.
 pub const ECLIPSE_TABLE_N: usize = 160;
 
@@ -689,6 +713,7 @@ pub struct MoonShader {
     sin_radius: f32,
     east: Vec3,
     north: Vec3,
+    refract: bool,
     sun: Vec3,
     axes: [Vec3; 3],
     /// B(g) S(g) p/π: the sunlit BRDF factor without μ0/(μ0 + μ) and albedo.
@@ -734,14 +759,25 @@ impl MoonShader {
     ) -> MoonShader {
         let centre = moon.dir().as_vec3().normalize();
         let radius = (moon.angular_radius * scale).clamp(1e-6, 0.5) as f32;
-        let pn = celestial_pole - centre * celestial_pole.dot(centre);
+        // Low Moons are drawn in the airless frame: each pixel's direction
+        // is un-refracted first, so that the disk shows the refraction's
+        // vertical flattening (Bennett's formula, standard conditions).
+        let refract = moon.alt_refracted_deg < REFRACTION_FRAME_BELOW_DEG;
+        let frame_centre = if refract {
+            crate::projection::enu_from_alt_az(moon.alt_deg.to_radians(), moon.az_deg.to_radians())
+                .as_vec3()
+                .normalize()
+        } else {
+            centre
+        };
+        let pn = celestial_pole - frame_centre * celestial_pole.dot(frame_centre);
         let north = if pn.length_squared() > 1e-12 {
             pn.normalize()
         } else {
             // The Moon at a celestial pole: any north.
-            centre.any_orthonormal_vector()
+            frame_centre.any_orthonormal_vector()
         };
-        let east = north.cross(centre);
+        let east = north.cross(frame_centre);
         let v3 = |a: [f64; 3]| Vec3::new(a[0] as f32, a[1] as f32, a[2] as f32);
         let g = moon.phase_angle_topo;
         // Normalised so that L = E p/π a at g = 0 (μ0/(μ0 + μ) = 1/2 there).
@@ -806,6 +842,7 @@ impl MoonShader {
             sin_radius: radius.sin(),
             east,
             north,
+            refract,
             sun: v3(moon.sun_in_sky).normalize(),
             axes: moon.axes_in_sky.map(v3),
             sun_factor,
@@ -837,7 +874,20 @@ impl MoonShader {
     /// unlike the cosine test of [`MoonShader::covers`]).
     #[inline]
     pub fn covers_exact(&self, d: Vec3) -> bool {
-        d.dot(self.centre) > 0.0 && d.cross(self.centre).length() < self.sin_radius
+        let (x, y) = self.sky_xy(d);
+        d.dot(self.centre) > 0.0 && x * x + y * y < 1.0
+    }
+
+    /// Offsets of the apparent direction `d` from the disk's centre toward
+    /// celestial east and north, in units of the disk's radius (for a low
+    /// Moon after removing the refraction of `d`).
+    #[inline]
+    pub fn sky_xy(&self, d: Vec3) -> (f32, f32) {
+        let d = if self.refract { unrefract(d) } else { d };
+        (
+            d.dot(self.east) / self.sin_radius,
+            d.dot(self.north) / self.sin_radius,
+        )
     }
 
     /// The point of the lunar sphere seen in direction `d` in the sky frame
@@ -846,8 +896,7 @@ impl MoonShader {
     #[inline]
     pub fn surface_point(&self, d: Vec3) -> Vec3 {
         // Orthographic to within (angular radius)²: fine for ρ ≤ 0.5 rad.
-        let x = d.dot(self.east) / self.sin_radius;
-        let y = d.dot(self.north) / self.sin_radius;
+        let (x, y) = self.sky_xy(d);
         let r2 = x * x + y * y;
         if r2 >= 1.0 {
             let r = r2.sqrt();
@@ -930,8 +979,7 @@ impl MoonShader {
     pub fn shade(&self, d: Vec3, pixel: f32) -> Option<([f32; 3], f32)> {
         // Offsets on the sky in units of the disk's radius: the angle from
         // the centre is ≈ r · radius (orthographic, as in surface_point).
-        let x = d.dot(self.east) / self.sin_radius;
-        let y = d.dot(self.north) / self.sin_radius;
+        let (x, y) = self.sky_xy(d);
         let r = (x * x + y * y).sqrt();
         let cov = ((1.0 - r) * self.radius / pixel + 0.5).clamp(0.0, 1.0);
         if cov <= 0.0 || d.dot(self.centre) <= 0.0 {
