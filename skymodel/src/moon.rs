@@ -6,8 +6,8 @@
 //! ## Photometry
 //!
 //! Radiance of a surface point lit by the Sun (Hapke 1963, "A theoretical
-//! photometric function for the lunar surface", JGR 68, 4571, eqs. 16–18; the
-//! seed thesis' eqs. 4.5–4.8):
+//! photometric function for the lunar surface", JGR 68, 4571; the seed
+//! thesis' eqs. 4.5–4.8):
 //!
 //! L = E☉ · (p/π) · a(x) · [2 B(g) S(g) / B(0)] · μ0 / (μ0 + μ)
 //!
@@ -15,11 +15,11 @@
 //! * μ0, μ — cosines of the incidence and emergence angles; μ0/(μ0 + μ) is
 //!   the Lommel–Seeliger law;
 //! * B(g) = 1 + B0 / (1 + tan(g/2)/h) — the shadow-hiding opposition surge
-//!   in Hapke's later form (Hapke 1986, Icarus 67, 264, eq. 12; the seed's
-//!   eq. 4.6 uses Hapke's 1963 form, see below), B0 = 0.9, h = 0.08
+//!   in Hapke's later form (Hapke 1986, Icarus 67, 264; the seed thesis
+//!   uses Hapke's 1963 form, see below), B0 = 0.9, h = 0.08
 //!   ([`SURGE_B0`], [`SURGE_H`]);
 //! * S(g) = [sin g + (π − g) cos g]/π + c (1 − cos g)² — Hapke's (1963)
-//!   phase law (eq. 4.7 of the seed thesis), c = 0.065 ([`HAPKE_S_COEFF`];
+//!   phase law (as in the seed thesis), c = 0.065 ([`HAPKE_S_COEFF`];
 //!   Hapke's value is 0.1); S(0) = 1;
 //! * a(x) — the albedo map, normalised so that its mean over the mean
 //!   near side weighted by projected area is 1 ([`AlbedoMap`]);
@@ -32,7 +32,7 @@
 //! **Calibration.** B0, h, c and p were fitted together (minimax, uniform
 //! albedo, disk integral on a 300 × 300 grid) to the observed lunar phase
 //! curve V = −12.73 + 0.026 φ + 4 × 10⁻⁹ φ⁴ (Allen's Astrophysical
-//! Quantities, 4th ed., §12.5) over φ = 5°–120° (largest residual 5.4 % with
+//! Quantities, 4th ed., Cox 2000) over φ = 5°–120° (largest residual 5.4 % with
 //! c = 0.075); c was then lowered to 0.065 because with the albedo map both
 //! crescents at φ = 120° came out 9–15 % bright (uniform-disk residuals with
 //! c = 0.065: −10 % … +5 %). The fitted values agree with the published ones — p = 0.12
@@ -46,7 +46,7 @@
 //!
 //! Colour: the lunar reflectance rises towards the red; the relative
 //! reflectance 1 + 0.0017 (λ − 550 nm) reproduces the Moon's B − V = 0.92
-//! against the Sun's 0.65 (Allen §12.5, §14.5) and is normalised to 1 in V
+//! against the Sun's 0.65 (Allen's Astrophysical Quantities) and is normalised to 1 in V
 //! (luminance under the solar spectrum).
 //!
 //! Relief: μ0 and μ use the normal of Stellarium's lunar normal map
@@ -105,7 +105,7 @@ pub const SURGE_H: f64 = 0.08;
 /// Coefficient of the (1 − cos g)² term of Hapke's S(g) (fitted; Hapke 1963: 0.1).
 pub const HAPKE_S_COEFF: f64 = 0.065;
 /// The Moon's geometric albedo in V (fitted; Allen's Astrophysical
-/// Quantities §12.5 gives 0.12).
+/// Quantities, 4th ed., gives 0.12).
 pub const GEOMETRIC_ALBEDO: f64 = 0.125;
 /// The Earth's visual geometric albedo (NASA Earth fact sheet, 0.367).
 pub const EARTH_GEOMETRIC_ALBEDO: f64 = 0.367;
@@ -118,14 +118,14 @@ pub const MEAN_MOON_DISTANCE_KM: f64 = 384_400.0;
 pub const LUX_MAG0: f64 = 2.54e-6;
 
 /// The opposition surge B(g) = 1 + B0/(1 + tan(g/2)/h) (Hapke 1986, Icarus
-/// 67, 264, eq. 12); `g` the phase angle in radians; 1 + B0 at g = 0.
+/// 67, 264); `g` the phase angle in radians; 1 + B0 at g = 0.
 pub fn surge_b(g: f64) -> f64 {
     let g = g.abs().min(std::f64::consts::PI * 0.999_999);
     1.0 + SURGE_B0 / (1.0 + (g / 2.0).tan() / SURGE_H)
 }
 
-/// The opposition surge B(g) of Hapke (1963, JGR 68, 4571, eq. 18; the seed
-/// thesis' eq. 4.6) with compaction `h`; `g` the phase angle in radians; 2
+/// The opposition surge B(g) of Hapke (1963, JGR 68, 4571; the seed
+/// thesis) with compaction `h`; `g` the phase angle in radians; 2
 /// at g = 0, 1 for g ≥ 90°. Kept for comparison (see the module documentation).
 pub fn hapke_1963_b(g: f64, h: f64) -> f64 {
     let g = g.abs();
@@ -154,7 +154,7 @@ pub fn lambert_sphere_phase(alpha: f64) -> f64 {
 }
 
 /// The observed lunar phase curve (Allen's Astrophysical Quantities, 4th ed.,
-/// §12.5): V = −12.73 + 0.026 φ + 4 × 10⁻⁹ φ⁴ at the mean distances (φ in
+/// Cox 2000): V = −12.73 + 0.026 φ + 4 × 10⁻⁹ φ⁴ at the mean distances (φ in
 /// degrees), moved to the Moon's distance `moon_km` from the observer and
 /// the Sun's distance `sun_au` from the Moon by the inverse-square law.
 pub fn allen_magnitude(phase_deg: f64, moon_km: f64, sun_au: f64) -> f64 {

@@ -17,7 +17,7 @@ use crate::units::Radians;
 /// Radiance of the inner (K + F) corona relative to the mean radiance of
 /// the solar disk at `r` solar radii from the Sun's centre (r ≥ 1):
 /// 10⁻⁶ (0.0532 r^−2.5 + 1.425 r^−7 + 2.565 r^−17) (Baumbach 1937, as given
-/// in Allen's Astrophysical Quantities, 4th ed., §14.5). 0 inside the disk.
+/// in Allen's Astrophysical Quantities, 4th ed., the solar corona). 0 inside the disk.
 pub fn corona_relative(r: f64) -> f64 {
     if r < 1.0 {
         return 0.0;
