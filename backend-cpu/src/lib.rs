@@ -321,10 +321,10 @@ impl SkyRenderer for CpuRenderer {
                     moon_pass::render_corona(&mut pixels, &dirs, scene, state, luts, r0);
                 }
                 Effect::Moon => {
-                    let luts = state
-                        .runs(Effect::Atmosphere)
-                        .then_some(())
-                        .and(self.luts.as_ref());
+                    let luts = self
+                        .luts
+                        .as_ref()
+                        .filter(|_| state.runs(Effect::Atmosphere));
                     let r0 =
                         luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
                     moon_pass::render(&mut pixels, &dirs, w, scene, state, luts, r0);
