@@ -15,4 +15,15 @@ common=(--lat 48.14 --lon 11.58 --width 320 --height 320 --projection fisheye)
 # Perspective view towards the sunset (azimuth 300°, 60° field of view).
 "$himmel" render --time 2024-06-21T19:05:00Z --lat 48.14 --lon 11.58 --width 480 --height 240 \
   --projection perspective --yaw 300 --pitch 12 --fov 40 --output "$out/sunset-west.png"
+# Eclipses (fixed exposure): totality over Dallas 2024-04-08 (3° on the Sun);
+# the lunar eclipse of 2025-03-14 from Mexico City, partial and at greatest.
+"$himmel" render --time 2024-04-08T18:42:39Z --lat 32.7767 --lon -96.797 --effects atmosphere,sun,moon \
+  --exposure 8 --projection perspective --fov 3 --yaw 188.019 --pitch 64.625 --width 320 --height 320 \
+  --output "$out/solar-eclipse-dallas.png"
+"$himmel" render --time 2025-03-14T05:35:00Z --lat 19.43 --lon -99.13 --projection perspective --fov 0.6 \
+  --yaw 132.0785 --pitch 66.1103 --effects moon,atmosphere --exposure 7 --width 320 --height 320 \
+  --output "$out/lunar-eclipse-2025-partial.png"
+"$himmel" render --time 2025-03-14T06:58:43Z --lat 19.43 --lon -99.13 --projection perspective --fov 0.6 \
+  --yaw 190.657 --pitch 72.716 --effects moon,atmosphere --exposure 3 --width 320 --height 320 \
+  --output "$out/lunar-eclipse-2025.png"
 ls -l "$out"

@@ -8,6 +8,7 @@
 //! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files.
 
 pub mod cache;
+pub mod moon_pass;
 pub mod output;
 
 use std::path::PathBuf;
@@ -236,7 +237,7 @@ impl SkyRenderer for CpuRenderer {
                     let input = SkyViewInput {
                         observer_altitude_km: state.observer_altitude_km as f32,
                         sun_sin_elevation: sun_dir.z,
-                        irradiance_scale: state.sun.irradiance_scale as f32,
+                        irradiance_scale: state.sun.sky_irradiance_scale() as f32,
                     };
                     let tsv = Clock::now();
                     let sv = sky_view(luts, &input);
@@ -272,6 +273,11 @@ impl SkyRenderer for CpuRenderer {
                         .map(|l| l.medium.bottom + state.observer_altitude_km as f32)
                         .unwrap_or(0.0);
                     let n = SUN_SUPERSAMPLING;
+                    // Solar eclipses: the Moon's disk hides the Sun's.
+                    let (moon_c, moon_sin) = (
+                        state.moon.dir().as_vec3(),
+                        (state.moon.angular_radius * scene.moon_scale).sin() as f32,
+                    );
                     pixels
                         .par_iter_mut()
                         .zip(dirs.par_iter())
@@ -292,7 +298,9 @@ impl SkyRenderer for CpuRenderer {
                                     };
                                     let sd = sd.as_vec3();
                                     // The ground hides the disk below the horizon.
-                                    if sd.z < 0.0 || !disk.covers(sd) {
+                                    let behind_moon = sd.dot(moon_c) > 0.0
+                                        && sd.cross(moon_c).length() < moon_sin;
+                                    if sd.z < 0.0 || !disk.covers(sd) || behind_moon {
                                         continue;
                                     }
                                     let t = match luts {
@@ -310,6 +318,16 @@ impl SkyRenderer for CpuRenderer {
                                 p[c] += acc[c] * k;
                             }
                         });
+                    moon_pass::render_corona(&mut pixels, &dirs, scene, state, luts, r0);
+                }
+                Effect::Moon => {
+                    let luts = self
+                        .luts
+                        .as_ref()
+                        .filter(|_| state.runs(Effect::Atmosphere));
+                    let r0 =
+                        luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
+                    moon_pass::render(&mut pixels, &dirs, w, scene, state, luts, r0);
                 }
                 other => {
                     return Err(RenderError::Other(format!(
@@ -323,6 +341,15 @@ impl SkyRenderer for CpuRenderer {
                 ran: true,
                 ms: Some(ms(t0)),
                 reason: None,
+            });
+        }
+        if state.runs(Effect::Moon) {
+            // The lunar-eclipse shading is part of the Moon pass; say whether it ran.
+            stats.push(PassStat {
+                name: "moon-eclipse".into(),
+                ran: state.moon.eclipse.is_some(),
+                ms: None,
+                reason: state.moon.eclipse_reason.clone(),
             });
         }
         Ok(RenderOutput {

@@ -288,7 +288,9 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
                 "distance_km": state.sun.distance_km,
                 "semidiameter_deg": state.sun.angular_radius.to_degrees(),
                 "illuminance_lux": state.sun.illuminance_lux,
+                "visible_fraction": state.sun.visible_fraction,
             },
+            "moon": moon_stats(&state.moon),
         });
         let text =
             serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
@@ -302,4 +304,24 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
 pub fn template() -> Result<(), CliError> {
     println!("{}", Scene::template_json());
     Ok(())
+}
+
+/// The Moon's block of `--stats`: place, size, phase, magnitude and, near a
+/// lunar eclipse, the eclipse magnitudes.
+fn moon_stats(m: &himmel_skymodel::moon::MoonState) -> serde_json::Value {
+    json!({
+        "alt_deg": m.alt_deg,
+        "alt_refracted_deg": m.alt_refracted_deg,
+        "az_deg": m.az_deg,
+        "distance_km": m.distance_km,
+        "semidiameter_deg": m.angular_radius.to_degrees(),
+        "phase_angle_deg": m.phase_angle.to_degrees(),
+        "illuminated_fraction": m.illuminated_fraction,
+        "bright_limb_pa_deg": m.bright_limb_pa.to_degrees(),
+        "parallactic_angle_deg": m.parallactic_angle.to_degrees(),
+        "magnitude": m.magnitude,
+        "earthshine_lux": m.earthshine_lux,
+        "umbral_magnitude": m.eclipse.map(|e| e.umbral_magnitude),
+        "penumbral_magnitude": m.eclipse.map(|e| e.penumbral_magnitude),
+    })
 }

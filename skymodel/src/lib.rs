@@ -7,6 +7,8 @@
 //! * [`atmosphere`] — Rayleigh/aerosol/ozone atmosphere with Hillaire (2020)
 //!   LUTs and a brute-force reference;
 //! * [`sun`] — the limb-darkened Sun disk, energy-conserving;
+//! * [`moon`] — the Moon's state, Hapke BRDF, albedo map, earthshine,
+//!   lunar-eclipse shading;
 //! * [`spectrum`] — bands, solar spectrum, CIE functions, sRGB;
 //! * [`projection`] — fisheye, equirect, perspective, cube map;
 //! * [`camera`] — metering, exposure, night vision, tone curve, sRGB, dither;
@@ -17,6 +19,7 @@
 
 pub mod atmosphere;
 pub mod camera;
+pub mod moon;
 pub mod projection;
 pub mod renderer;
 pub mod scene;

@@ -16,7 +16,7 @@ pub enum Effect {
     Atmosphere,
     /// The Sun's disk.
     Sun,
-    /// The Moon (a later issue).
+    /// The Moon.
     Moon,
     /// Catalogue stars (a later issue).
     Stars,
@@ -62,7 +62,7 @@ impl Effect {
 
     /// Whether this version renders the effect.
     pub fn available(self) -> bool {
-        matches!(self, Effect::Atmosphere | Effect::Sun)
+        matches!(self, Effect::Atmosphere | Effect::Sun | Effect::Moon)
     }
 }
 
@@ -145,7 +145,8 @@ pub struct Scene {
     pub exposure: Exposure,
     /// Drawn Sun size relative to the true one (default 1; the illuminance is kept).
     pub sun_scale: f64,
-    /// Drawn Moon size relative to the true one (default 1; used by the Moon pass).
+    /// Drawn Moon size relative to the true one (default 1; the radiance is
+    /// kept, so the illuminance grows with its square).
     pub moon_scale: f64,
     /// Night vision (mesopic/scotopic) in the camera stage (default true).
     pub night_vision: bool,

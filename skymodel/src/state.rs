@@ -7,6 +7,7 @@ use himmel_astro::units::{KM_PER_AU, SUN_RADIUS_KM};
 use himmel_astro::{Body, Instant, Observer, Precision, Sky, UtcDateTime};
 use serde::Serialize;
 
+use crate::moon::MoonState;
 use crate::projection::enu_from_alt_az;
 use crate::scene::{Effect, Scene, SceneError};
 use crate::spectrum::BandWeights;
@@ -31,12 +32,26 @@ pub struct SunState {
     pub illuminance_lux: Lux,
     /// (1 AU / distance)².
     pub irradiance_scale: f64,
+    /// Fraction of the solar disk not hidden by the Moon (1 outside solar
+    /// eclipses; uniform-disk overlap of the topocentric disks,
+    /// [`himmel_astro::events::solar_eclipse::disk_overlap_fraction`]).
+    pub visible_fraction: f64,
 }
 
 impl SunState {
     /// The direction as a glam vector.
     pub fn dir(&self) -> DVec3 {
         DVec3::from_array(self.enu)
+    }
+
+    /// The irradiance scale of the sunlight that lights the sky and the
+    /// ground: (1 AU / distance)² × (the visible fraction of the disk + the
+    /// corona's [`crate::sun::CORONA_FRACTION`]); a solar eclipse dims the
+    /// sky in proportion. (The light scattered into the umbra from the
+    /// sunlit atmosphere outside it, which makes the real sky at totality
+    /// ~10⁻⁴ of daylight, is not modelled: totality is darker here.)
+    pub fn sky_irradiance_scale(&self) -> f64 {
+        self.irradiance_scale * (self.visible_fraction + crate::sun::CORONA_FRACTION).min(1.0)
     }
 }
 
@@ -62,6 +77,10 @@ pub struct SkyState {
     pub observer_altitude_km: f64,
     /// The Sun.
     pub sun: SunState,
+    /// The Moon.
+    pub moon: MoonState,
+    /// ENU unit vector towards the celestial north pole.
+    pub celestial_pole: [f64; 3],
     /// Every effect in back-to-front order, with its plan.
     pub passes: Vec<PlannedPass>,
 }
@@ -123,14 +142,28 @@ impl SkyState {
             angular_radius: (SUN_RADIUS_KM / topo.distance_km).asin(),
             illuminance_lux: BandWeights::solar().solar_illuminance_lux() * irradiance_scale,
             irradiance_scale,
+            visible_fraction: 1.0,
         };
-        let passes = plan(scene, &sun);
+        let (moon, visible_fraction) =
+            crate::moon::moon_state(&sky, &observer, &sun).map_err(|e| SceneError {
+                field: "time.utc".into(),
+                message: e.to_string(),
+            })?;
+        let sun = SunState {
+            visible_fraction,
+            ..sun
+        };
+        let mut passes = plan(scene, &sun);
+        crate::moon::plan_moon(&mut passes, scene, &moon);
+        let lat = o.lat_deg.to_radians();
         Ok(SkyState {
             utc,
             jd_tt: instant.jd_tt,
             observer_altitude_km: (o.elevation_m / 1000.0)
                 .clamp(0.0, scene.atmosphere.thickness_km * 0.9),
             sun,
+            moon,
+            celestial_pole: [0.0, lat.cos(), lat.sin()],
             passes,
         })
     }

@@ -14,6 +14,22 @@ use glam::Vec3;
 use crate::spectrum::{band_centre_nm, BandWeights, Spectrum, BANDS};
 use crate::units::Radians;
 
+/// Radiance of the inner (K + F) corona relative to the mean radiance of
+/// the solar disk at `r` solar radii from the Sun's centre (r ≥ 1):
+/// 10⁻⁶ (0.0532 r^−2.5 + 1.425 r^−7 + 2.565 r^−17) (Baumbach 1937, as given
+/// in Allen's Astrophysical Quantities, 4th ed., the solar corona). 0 inside the disk.
+pub fn corona_relative(r: f64) -> f64 {
+    if r < 1.0 {
+        return 0.0;
+    }
+    1e-6 * (0.0532 * r.powf(-2.5) + 1.425 * r.powi(-7) + 2.565 * r.powi(-17))
+}
+
+/// The corona's total light relative to the solar disk's: ∫ 2πr B(r) dr / π
+/// over r ≥ 1 for [`corona_relative`] = 2 × 10⁻⁶ (0.0532/0.5 + 1.425/5 +
+/// 2.565/15) ≈ 1.12 × 10⁻⁶.
+pub const CORONA_FRACTION: f64 = 2e-6 * (0.0532 / 0.5 + 1.425 / 5.0 + 2.565 / 15.0);
+
 /// Limb-darkening exponent α(λ) of Hestroffer & Magnan (1998).
 pub fn limb_darkening_alpha(nm: f64) -> f64 {
     -0.023 + 0.292 / (nm / 1000.0)
@@ -133,6 +149,18 @@ mod tests {
             let want = w.solar_illuminance_lux() * scale;
             assert!((e / want - 1.0).abs() < 0.01, "{e} vs {want}");
         }
+    }
+
+    #[test]
+    fn corona_integral_matches_its_fraction() {
+        let (mut s, n) = (0.0, 200_000);
+        let r_max = 200.0f64;
+        for i in 0..n {
+            let r = 1.0 + (r_max - 1.0) * (i as f64 + 0.5) / n as f64;
+            s += 2.0 * r * corona_relative(r) * (r_max - 1.0) / n as f64;
+        }
+        assert!((s / CORONA_FRACTION - 1.0).abs() < 0.03, "{s}");
+        assert_eq!(corona_relative(0.5), 0.0);
     }
 
     #[test]
