@@ -7,6 +7,10 @@
 //! * [`atmosphere`] — Rayleigh/aerosol/ozone atmosphere with Hillaire (2020)
 //!   LUTs and a brute-force reference;
 //! * [`sun`] — the limb-darkened Sun disk, energy-conserving;
+//! * [`stars`] — stars and planets as point sources, the energy-conserving
+//!   PSF, extinction and scintillation;
+//! * [`milkyway`] — the Milky Way map, faint-star light, zodiacal light, airglow;
+//! * [`night`] — the night sky of one instant and the culling of its passes;
 //! * [`spectrum`] — bands, solar spectrum, CIE functions, sRGB;
 //! * [`projection`] — fisheye, equirect, perspective, cube map;
 //! * [`camera`] — metering, exposure, night vision, tone curve, sRGB, dither;
@@ -17,10 +21,13 @@
 
 pub mod atmosphere;
 pub mod camera;
+pub mod milkyway;
+pub mod night;
 pub mod projection;
 pub mod renderer;
 pub mod scene;
 pub mod spectrum;
+pub mod stars;
 pub mod state;
 pub mod sun;
 pub mod units;
@@ -28,5 +35,5 @@ pub mod units;
 pub use camera::Exposure;
 pub use projection::{Camera, Projection};
 pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
-pub use scene::{Effect, Scene, SceneError};
+pub use scene::{Effect, Scene, SceneError, StarParams};
 pub use state::{SkyState, SunState};

@@ -62,6 +62,8 @@ pub struct SkyState {
     pub observer_altitude_km: f64,
     /// The Sun.
     pub sun: SunState,
+    /// Star frame, planets and scintillation (`crate::night`).
+    pub night: crate::night::NightSky,
     /// Every effect in back-to-front order, with its plan.
     pub passes: Vec<PlannedPass>,
 }
@@ -124,13 +126,20 @@ impl SkyState {
             illuminance_lux: BandWeights::solar().solar_illuminance_lux() * irradiance_scale,
             irradiance_scale,
         };
-        let passes = plan(scene, &sun);
+        let night =
+            crate::night::NightSky::new(scene, &sky, &observer).map_err(|e| SceneError {
+                field: "time.utc".into(),
+                message: e.to_string(),
+            })?;
+        let mut passes = plan(scene, &sun);
+        night.refine_plan(&mut passes);
         Ok(SkyState {
             utc,
             jd_tt: instant.jd_tt,
             observer_altitude_km: (o.elevation_m / 1000.0)
                 .clamp(0.0, scene.atmosphere.thickness_km * 0.9),
             sun,
+            night,
             passes,
         })
     }
