@@ -8,6 +8,7 @@
 //! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files.
 
 pub mod cache;
+pub mod night_pass;
 pub mod output;
 
 use std::path::PathBuf;
@@ -182,6 +183,15 @@ impl CpuRenderer {
     }
 }
 
+/// The sky-view inputs of `state`.
+fn sky_view_input(state: &SkyState) -> SkyViewInput {
+    SkyViewInput {
+        observer_altitude_km: state.observer_altitude_km as f32,
+        sun_sin_elevation: state.sun.dir().as_vec3().normalize().z,
+        irradiance_scale: state.sun.irradiance_scale as f32,
+    }
+}
+
 fn ms(t: Clock) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -219,28 +229,47 @@ impl SkyRenderer for CpuRenderer {
             precompute_ms = ms(tp);
             lut_source = source;
         }
+        // The night passes decide before rendering whether they can show
+        // at the chosen exposure; they need the sky view for that.
+        let mut sv = None;
+        let night = if [Effect::Milkyway, Effect::Stars, Effect::Planets]
+            .into_iter()
+            .any(|e| state.runs(e))
+        {
+            let luts = self.luts.as_ref().filter(|_| state.runs(Effect::Atmosphere));
+            if let Some(l) = luts {
+                let tsv = Clock::now();
+                sv = Some(sky_view(l, &sky_view_input(state)));
+                sky_view_ms = ms(tsv);
+            }
+            Some(night_pass::NightFrame::prepare(scene, state, luts, sv.as_ref(), &dirs))
+        } else {
+            None
+        };
         for planned in &state.passes {
-            if !planned.run {
+            let culled = night.as_ref().and_then(|n| n.reason(planned.effect));
+            if !planned.run || culled.is_some() {
                 stats.push(PassStat {
                     name: planned.effect.name().into(),
                     ran: false,
                     ms: None,
-                    reason: planned.reason.clone(),
+                    reason: planned.reason.clone().or(culled.map(str::to_string)),
                 });
                 continue;
             }
             let t0 = Clock::now();
             match planned.effect {
                 Effect::Atmosphere => {
-                    let (luts, _) = self.luts(&scene.atmosphere, &scene.lut);
-                    let input = SkyViewInput {
-                        observer_altitude_km: state.observer_altitude_km as f32,
-                        sun_sin_elevation: sun_dir.z,
-                        irradiance_scale: state.sun.irradiance_scale as f32,
+                    let sv = match sv.take() {
+                        Some(sv) => sv,
+                        None => {
+                            let (luts, _) = self.luts(&scene.atmosphere, &scene.lut);
+                            let tsv = Clock::now();
+                            let sv = sky_view(luts, &sky_view_input(state));
+                            sky_view_ms = ms(tsv);
+                            sv
+                        }
                     };
-                    let tsv = Clock::now();
-                    let sv = sky_view(luts, &input);
-                    sky_view_ms = ms(tsv);
                     pixels
                         .par_iter_mut()
                         .zip(dirs.par_iter())
@@ -310,6 +339,15 @@ impl SkyRenderer for CpuRenderer {
                                 p[c] += acc[c] * k;
                             }
                         });
+                }
+                Effect::Milkyway | Effect::Stars | Effect::Planets => {
+                    if let Some(n) = &night {
+                        match planned.effect {
+                            Effect::Milkyway => n.milkyway(&mut pixels, &dirs),
+                            Effect::Stars => n.stars(&mut pixels, scene, state),
+                            _ => n.planets(&mut pixels, scene, state),
+                        }
+                    }
                 }
                 other => {
                     return Err(RenderError::Other(format!(

@@ -130,7 +130,7 @@ pub const CULL_CANDIDATES: usize = 32;
 
 /// Why a point-source pass (`what` = "star" or "planet") is invisible at
 /// `ev100`, or `None` when one of its `CULL_CANDIDATES` brightest sources
-/// (`sources`, brightest first, above the horizon) shows: peak core
+/// inside the image (`sources`, brightest first, above the horizon) shows: peak core
 /// luminance after extinction against `background(dir)` (luminance, cd/m²).
 pub fn cull_points(
     what: &str,
@@ -142,13 +142,18 @@ pub fn cull_points(
     ev100: f64,
 ) -> Option<String> {
     let mut brightest_bg = None;
-    for s in sources.take(CULL_CANDIDATES) {
+    let mut n = 0;
+    for s in sources {
+        if n == CULL_CANDIDATES {
+            break;
+        }
         let t = extinction.rgb(s.dir);
         let y = crate::spectrum::luminance([s.rgb[0] * t[0], s.rgb[1] * t[1], s.rgb[2] * t[2]]);
         let peak = core_peak_luminance(cam, s.dir, s.lux * y, core_px);
         if peak <= 0.0 {
             continue;
         }
+        n += 1;
         let bg = background(s.dir);
         if visible_on_display(bg, peak, ev100) {
             return None;

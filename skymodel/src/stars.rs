@@ -423,11 +423,15 @@ pub fn splat(
 
 /// The peak luminance (cd/m²) that the core of a source of illuminance
 /// `lux` reaches at ENU direction `dir` (used by the pass culling), or 0
-/// when the projection does not show it.
+/// when the direction falls outside the image.
 pub fn core_peak_luminance(cam: &Camera, dir: Vec3, lux: f32, core_px: f32) -> f32 {
     let Some((cx, cy)) = cam.dir_to_pixel(dir.as_dvec3()) else {
         return 0.0;
     };
+    let (w, h) = cam.image_size();
+    if !(cx >= 0.0 && cy >= 0.0 && cx < w as f64 && cy < h as f64) {
+        return 0.0;
+    }
     let omega = cam.pixel_solid_angle(cx.floor() + 0.5, cy.floor() + 0.5) as f32;
     if omega <= 0.0 {
         return 0.0;
