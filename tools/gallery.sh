@@ -15,4 +15,7 @@ common=(--lat 48.14 --lon 11.58 --width 320 --height 320 --projection fisheye)
 # Perspective view towards the sunset (azimuth 300°, 60° field of view).
 "$himmel" render --time 2024-06-21T19:05:00Z --lat 48.14 --lon 11.58 --width 480 --height 240 \
   --projection perspective --yaw 300 --pitch 12 --fov 40 --output "$out/sunset-west.png"
+# Night: stars, planets, Milky Way (Munich, 15 January 2024, 22:00 local time), fixed exposure.
+"$himmel" render --time 2024-01-15T21:00:00Z --lat 48.14 --lon 11.58 --width 480 --height 480 \
+  --effects stars,planets,milkyway,atmosphere --exposure -6 --output "$out/night.png"
 ls -l "$out"

@@ -236,13 +236,22 @@ impl SkyRenderer for CpuRenderer {
             .into_iter()
             .any(|e| state.runs(e))
         {
-            let luts = self.luts.as_ref().filter(|_| state.runs(Effect::Atmosphere));
+            let luts = self
+                .luts
+                .as_ref()
+                .filter(|_| state.runs(Effect::Atmosphere));
             if let Some(l) = luts {
                 let tsv = Clock::now();
                 sv = Some(sky_view(l, &sky_view_input(state)));
                 sky_view_ms = ms(tsv);
             }
-            Some(night_pass::NightFrame::prepare(scene, state, luts, sv.as_ref(), &dirs))
+            Some(night_pass::NightFrame::prepare(
+                scene,
+                state,
+                luts,
+                sv.as_ref(),
+                &dirs,
+            ))
         } else {
             None
         };

@@ -6,11 +6,11 @@
 use glam::Vec3;
 use himmel_skymodel::atmosphere::{AtmosphereLuts, SkyView};
 use himmel_skymodel::milkyway::NightBackground;
-use himmel_skymodel::night::{
-    cull_diffuse, cull_points, estimate_ev100, white_luminance,
-};
+use himmel_skymodel::night::{cull_diffuse, cull_points, estimate_ev100, white_luminance};
 use himmel_skymodel::spectrum::luminance;
-use himmel_skymodel::stars::{catalogue, star_source, splat, Extinction, PointSource, Psf, SplatScratch};
+use himmel_skymodel::stars::{
+    catalogue, splat, star_source, Extinction, PointSource, Psf, SplatScratch,
+};
 use himmel_skymodel::{Effect, Scene, SkyState};
 use rayon::prelude::*;
 
@@ -150,7 +150,15 @@ impl NightFrame {
                 continue;
             }
             let rgb = [c[0] / y, c[1] / y, c[2] / y];
-            splat(pixels, &scene.camera, s.dir, s.lux * y, rgb, &psf, &mut scratch);
+            splat(
+                pixels,
+                &scene.camera,
+                s.dir,
+                s.lux * y,
+                rgb,
+                &psf,
+                &mut scratch,
+            );
         }
     }
 

@@ -109,7 +109,14 @@ const MUNICH: (f64, f64) = (48.14, 11.58);
 #[test]
 fn fifteen_brightest_stars_above_20_degrees_peak_within_one_pixel() {
     let time = "2024-01-15T21:00:00Z";
-    let s = scene(time, MUNICH.0, MUNICH.1, vec![Effect::Stars], 1024, Projection::Fisheye);
+    let s = scene(
+        time,
+        MUNICH.0,
+        MUNICH.1,
+        vec![Effect::Stars],
+        1024,
+        Projection::Fisheye,
+    );
     let out = render(&s);
     let red = reduction(time);
     let cat = Catalog::embedded().unwrap();
@@ -147,7 +154,14 @@ fn sirius_vega_arcturus_integrated_illuminance_within_10_percent() {
         ("2024-01-15T21:00:00Z", vec!["Sirius"]),
         ("2024-07-01T21:00:00Z", vec!["Vega", "Arcturus"]),
     ] {
-        let s = scene(time, MUNICH.0, MUNICH.1, vec![Effect::Stars], 1024, Projection::Fisheye);
+        let s = scene(
+            time,
+            MUNICH.0,
+            MUNICH.1,
+            vec![Effect::Stars],
+            1024,
+            Projection::Fisheye,
+        );
         let out = render(&s);
         let red = reduction(time);
         for name in names {
@@ -203,7 +217,11 @@ fn star_at_the_zenith_is_at_the_image_centre_with_its_flux() {
     let want = V0_LUX * 10f64.powf(-0.4 * vega.vmag);
     let e = window_lux(&out.image, 32.5, 32.5, 4);
     assert!((e / want - 1.0).abs() < 0.01, "{e} vs {want}");
-    assert!(out.image.pixels.iter().all(|p| p.iter().all(|v| v.is_finite())));
+    assert!(out
+        .image
+        .pixels
+        .iter()
+        .all(|p| p.iter().all(|v| v.is_finite())));
 }
 
 #[test]
@@ -212,7 +230,14 @@ fn observers_at_the_poles_see_every_star_above_their_horizon() {
     let red = reduction(time);
     let cat = Catalog::embedded().unwrap();
     for lat in [90.0, -90.0] {
-        let s = scene(time, lat, 0.0, vec![Effect::Stars], 128, Projection::Fisheye);
+        let s = scene(
+            time,
+            lat,
+            0.0,
+            vec![Effect::Stars],
+            128,
+            Projection::Fisheye,
+        );
         let out = render(&s);
         let img = &out.image;
         assert!(img.pixels.iter().all(|p| p.iter().all(|v| v.is_finite())));
@@ -243,7 +268,14 @@ fn half_degree_field_shows_vega_at_its_centre_with_its_flux() {
     let red = reduction(time);
     let vega = Catalog::embedded().unwrap().by_name("Vega").unwrap();
     let t = topo(&red, vega, MUNICH.0, MUNICH.1);
-    let mut s = scene(time, MUNICH.0, MUNICH.1, vec![Effect::Stars], 64, Projection::Perspective);
+    let mut s = scene(
+        time,
+        MUNICH.0,
+        MUNICH.1,
+        vec![Effect::Stars],
+        64,
+        Projection::Perspective,
+    );
     s.camera.yaw_deg = t.az_deg();
     s.camera.pitch_deg = t.alt_refracted_deg();
     s.camera.fov_deg = 0.5;
@@ -297,7 +329,10 @@ fn stars_pass_is_culled_at_noon_and_runs_at_night() {
     for n in ["planets", "milkyway"] {
         let p = pass(&out, n);
         assert!(!p.ran, "{n}");
-        assert!(p.reason.unwrap().starts_with("sky background brighter"), "{n}");
+        assert!(
+            p.reason.unwrap().starts_with("sky background brighter"),
+            "{n}"
+        );
     }
     s.time.utc = "2024-01-15T21:00:00Z".into();
     let out = render(&s);
@@ -342,7 +377,14 @@ fn dark_sky_zenith_luminance_is_natural() {
 fn planets_are_drawn_with_their_magnitude() {
     // Jupiter high in the south-west from Munich, January 2024 (V ≈ −2.5).
     let time = "2024-01-15T19:00:00Z";
-    let s = scene(time, MUNICH.0, MUNICH.1, vec![Effect::Planets], 512, Projection::Fisheye);
+    let s = scene(
+        time,
+        MUNICH.0,
+        MUNICH.1,
+        vec![Effect::Planets],
+        512,
+        Projection::Fisheye,
+    );
     let state = SkyState::at(&s).unwrap();
     let out = CpuRenderer::new(None).render(&s, &state).unwrap();
     let utc = himmel_astro::time::parse_rfc3339(time).unwrap();
@@ -363,4 +405,31 @@ fn planets_are_drawn_with_their_magnitude() {
     // Jupiter is yellowish-white: red above blue.
     let p = out.image.pixels[py as usize * 512 + px as usize];
     assert!(p[0] > p[2], "{p:?}");
+}
+
+#[test]
+fn scintillation_is_deterministic_per_seed() {
+    let time = "2024-01-15T21:00:00Z";
+    let mut s = scene(
+        time,
+        MUNICH.0,
+        MUNICH.1,
+        vec![Effect::Stars],
+        96,
+        Projection::Fisheye,
+    );
+    s.stars.scintillation = true;
+    s.stars.seed = 1;
+    let a = render(&s).image.pixels;
+    let b = render(&s).image.pixels;
+    assert_eq!(a, b);
+    s.stars.seed = 2;
+    let c = render(&s).image.pixels;
+    assert_ne!(a, c);
+    s.stars.scintillation = false;
+    let d = render(&s).image.pixels;
+    // Twinkling changes single stars by tens of per cent but leaves the
+    // total flux of thousands of stars nearly unchanged (unit-mean noise).
+    let total = |p: &[[f32; 3]]| p.iter().map(|q| luminance(*q) as f64).sum::<f64>();
+    assert!((total(&a) / total(&d) - 1.0).abs() < 0.1);
 }

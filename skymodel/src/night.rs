@@ -52,9 +52,15 @@ impl NightSky {
     ) -> Result<NightSky, himmel_astro::AstroError> {
         let mut planets = Vec::new();
         if scene.wants(Effect::Planets) {
-            for (i, body) in [Body::Mercury, Body::Venus, Body::Mars, Body::Jupiter, Body::Saturn]
-                .into_iter()
-                .enumerate()
+            for (i, body) in [
+                Body::Mercury,
+                Body::Venus,
+                Body::Mars,
+                Body::Jupiter,
+                Body::Saturn,
+            ]
+            .into_iter()
+            .enumerate()
             {
                 let topo = sky.topocentric(body, observer)?;
                 let mag = sky.planet_magnitude(body)?;

@@ -478,7 +478,10 @@ mod tests {
                 }
             }
         }
-        assert!((hemi / (2.0 * std::f64::consts::PI) - 1.0).abs() < 5e-3, "{hemi}");
+        assert!(
+            (hemi / (2.0 * std::f64::consts::PI) - 1.0).abs() < 5e-3,
+            "{hemi}"
+        );
         // Perspective: a 90° square frame covers 4π/6 (one cube face).
         f = cam(Projection::Perspective, 200, 200);
         f.fov_deg = 90.0;

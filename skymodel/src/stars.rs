@@ -149,7 +149,8 @@ impl Scintillation {
     pub fn factor(&self, id: u32, cos_z: f32) -> f32 {
         let x = 1.0 / cos_z.max(0.025);
         let sigma = (0.1 * x.powf(1.75)).min(0.8);
-        let mut h = self.seed ^ (id as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        let mut h = self.seed
+            ^ (id as u64).wrapping_mul(0x9E37_79B9_7F4A_7C15)
             ^ (self.step as u64).wrapping_mul(0xC2B2_AE3D_27D4_EB4F);
         // SplitMix64 finaliser.
         h = (h ^ (h >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
@@ -204,7 +205,8 @@ pub fn colour_from_bv(bv: f64) -> [f32; 3] {
 }
 
 /// Atmospheric extinction of point sources as linear sRGB factors, tabulated
-/// against the apparent altitude (0–90°, 1024 steps, linear interpolation).
+/// against the zenith cosine μ = sin(apparent altitude) (0–1 in 1024 steps,
+/// 0.056° of altitude at the horizon; linear interpolation).
 /// The band transmittance T(λ) is turned into per-channel factors with the
 /// solar spectrum's band weights: f_k = Σ_b T_b w_bk / Σ_b w_bk (an
 /// approximation for stars whose spectra differ from the Sun's).
@@ -230,8 +232,8 @@ impl Extinction {
         let one = w.to_rgb(&Spectrum::ONE);
         let table = (0..=EXTINCTION_STEPS)
             .map(|i| {
-                let alt = std::f32::consts::FRAC_PI_2 * i as f32 / EXTINCTION_STEPS as f32;
-                let rgb = w.to_rgb(&transmittance(alt.sin()));
+                let mu = i as f32 / EXTINCTION_STEPS as f32;
+                let rgb = w.to_rgb(&transmittance(mu));
                 [rgb[0] / one[0], rgb[1] / one[1], rgb[2] / one[2]]
             })
             .collect();
@@ -242,8 +244,7 @@ impl Extinction {
     #[inline]
     pub fn rgb(&self, dir: Vec3) -> [f32; 3] {
         let n = self.table.len() - 1;
-        let alt = dir.z.clamp(0.0, 1.0).asin() / std::f32::consts::FRAC_PI_2;
-        let x = alt * n as f32;
+        let x = dir.z.clamp(0.0, 1.0) * n as f32;
         let i = (x as usize).min(n - 1);
         let f = x - i as f32;
         let (a, b) = (self.table[i], self.table[i + 1]);
@@ -492,7 +493,15 @@ mod tests {
                     };
                     let rgb = colour_from_bv(1.5);
                     let lux = illuminance_lux(-1.46) as f32;
-                    let dep = splat(&mut px, &cam, d, lux, rgb, &psf, &mut SplatScratch::default());
+                    let dep = splat(
+                        &mut px,
+                        &cam,
+                        d,
+                        lux,
+                        rgb,
+                        &psf,
+                        &mut SplatScratch::default(),
+                    );
                     if dep == 0.0 {
                         continue;
                     }
