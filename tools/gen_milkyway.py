@@ -17,8 +17,11 @@ Output: skymodel/data/milkyway.bin, "HMMW", u16 version 1, u16 width,
 u16 height, u16 reserved, f32 scale, then width×height×3 u8 sRGB-encoded
 samples (box-filtered in linear light). `scale` turns the linearised sample
 luminance Y (0..1) into cd/m²: the mean of scale·Y over |b| < 5° equals the
-integrated starlight of the galactic equator above the galactic-pole level
-(BAND_S10 − POLE_S10, see below) in S10 units converted to cd/m².
+integrated starlight of the galactic equator above the galactic-pole level,
+both without the catalogue stars that the renderer draws as points
+((BAND_S10 − catalogue |b| < 5°) − (POLE_S10 − catalogue |b| > 60°), in S10
+converted to cd/m²; the catalogue's flux densities are computed here from
+catalog/data/stars.bin, every star with V ≤ 6.5).
 
 Usage: python3 tools/gen_milkyway.py /path/to/milkyway.png
 """
@@ -69,6 +72,31 @@ def radec_of_pixels(w, h):
     return ra, dec
 
 
+def catalogue_s10():
+    """Mean surface brightness (S10) of the embedded catalogue's stars
+    (V ≤ 6.5) at |b| < 5° and at |b| > 60°."""
+    b = open(os.path.join(HERE, "..", "catalog", "data", "stars.bin"), "rb").read()
+    assert b[:4] == b"HMSC"
+    _, _, n, _, _, _ = struct.unpack_from("<HHIIId", b, 4)
+    off = 4 + struct.calcsize("<HHIIId")
+    lat, flux = [], []
+    for i in range(n):
+        r = b[off + 32 * i: off + 32 * (i + 1)]
+        _, _, _, ra, dec = struct.unpack_from("<IHHIi", r, 0)
+        ra, dec = ra * 2 * math.pi / 2 ** 32, dec * math.pi / 2 ** 32
+        v = struct.unpack_from("<h", r, 28)[0] * 0.001
+        x = np.array([math.cos(dec) * math.cos(ra), math.cos(dec) * math.sin(ra), math.sin(dec)])
+        lat.append(math.degrees(math.asin((ICRS_TO_GAL @ x)[2])))
+        flux.append(10 ** (-0.4 * (v - 10.0)))
+    lat, flux = np.abs(np.array(lat)), np.array(flux)
+
+    def density(lo, hi):
+        area = 2 * 2 * math.pi * (math.sin(math.radians(hi)) - math.sin(math.radians(lo)))
+        return flux[(lat >= lo) & (lat < hi)].sum() / (area * (180 / math.pi) ** 2)
+
+    return density(0, 5), density(60, 90.001)
+
+
 def check_frame(lin):
     """Centroids of compact features against their catalogue places."""
     y = lin.mean(axis=2)
@@ -106,7 +134,12 @@ def main():
     band = np.abs(b) < 5.0
     wgt = np.cos(dec)
     mean_band = (Y * wgt)[band].sum() / wgt[band].sum()
-    scale = (BAND_S10 - POLE_S10) * S10_CD_M2 / mean_band
+    cat_band, cat_pole = catalogue_s10()
+    floor = POLE_S10 - cat_pole
+    target = (BAND_S10 - cat_band) - floor
+    print(f"catalogue stars: {cat_band:.1f} S10 at |b|<5°, {cat_pole:.1f} S10 at |b|>60°;"
+          f" diffuse floor {floor:.1f} S10, map band mean {target:.1f} S10")
+    scale = target * S10_CD_M2 / mean_band
     print(f"mean linear Y on |b|<5°: {mean_band:.5f}; scale {scale:.4e} cd/m² per unit")
     enc = np.round(linear_to_srgb(small)).astype(np.uint8)
     with open(OUT, "wb") as f:

@@ -14,16 +14,20 @@
 //!   it against M42, the LMC, the SMC, M31, the Pleiades and η Car (all within
 //!   0.3°). The sky is rotated into the horizon frame of date by the catalogue
 //!   stars' ICRS → ENU matrix (precession, nutation, sidereal time, latitude).
-//!   Calibration (in the file header): the linearised map's mean over
-//!   |b| < 5° equals 250 − 25 S10, the integrated starlight of the galactic
-//!   equator above its galactic-pole level (Roach & Megill 1961 as tabulated
-//!   by Leinert et al. 1998, A&AS 127, 1, §8).
-//! * **Faint-star floor**: 25 S10 everywhere (the galactic-pole integrated
-//!   starlight, same source); the map adds the excess towards the plane.
-//!   Double counting: the catalogue stars drawn as points (V ≤ 6.5) add about
-//!   3 S10 averaged over the sky to the floor's 25 S10 and the band's 250 S10
-//!   (the Roach & Megill values include them); that ≈ 1–10 % excess is left
-//!   in, below the uncertainty of the calibration.
+//!   Calibration (in the file header): the integrated starlight of stars
+//!   of all magnitudes, averaged over galactic longitude, is ≈ 250 S10 on the
+//!   galactic equator and ≈ 25 S10 at the galactic poles (Roach & Megill
+//!   1961 as tabulated by Leinert et al. 1998, A&AS 127, 1, §8). No double
+//!   counting: the renderer draws the catalogue stars (V ≤ 6.5) as points,
+//!   and they carry 40.8 S10 at |b| < 5° and 15.9 S10 at |b| > 60°
+//!   (computed by `tools/gen_milkyway.py` from the embedded catalogue), so
+//!   the diffuse part is 250 − 40.8 S10 on the equator and 25 − 15.9 = 9.1
+//!   S10 at the poles. The map (stars already removed by Stellarium) is
+//!   scaled so that its mean over |b| < 5° is the difference, 200.2 S10.
+//!   (Drawing fainter stars with `stars.limit_mag` > 6.5 adds their light
+//!   again, about 10 S10 more: left as is.)
+//! * **Faint-star floor**: 9.1 S10 everywhere (the diffuse galactic-pole
+//!   level above); the map adds the excess towards the plane.
 //! * **Zodiacal light**: I(β) = 60 + 140 cos⁴ β S10 at ecliptic latitude β,
 //!   a fit to Leinert et al. 1998, Table 17, at 90° elongation from the Sun
 //!   (≈ 60 S10 at the ecliptic pole, ≈ 200 S10 on the ecliptic); its
@@ -36,8 +40,10 @@
 //!   line that dominates the V band.
 //!
 //! A dark site with the galactic pole near the zenith adds up to about
-//! 120 + 60–100 + 25 ≈ 210–250 S10 ≈ 1.8–2.1 × 10⁻⁴ cd/m² (21.8–22.0 V
-//! mag/arcsec², the natural dark-sky zenith brightness; Benn & Ellison 1998).
+//! 120 (airglow) + 60–140 (zodiacal light) + 9 + 15 (the drawn stars,
+//! averaged) ≈ 200–280 S10 ≈ 1.7–2.4 × 10⁻⁴ cd/m² outside the atmosphere
+//! (21.7–22.0 V mag/arcsec², the natural dark-sky zenith brightness; Benn &
+//! Ellison 1998, La Palma), 10–20 % less after extinction.
 
 use std::sync::OnceLock;
 
@@ -52,8 +58,9 @@ pub const S10_CD_M2: f64 =
 pub const AIRGLOW_ZENITH_S10: f64 = 120.0;
 /// Height of the airglow layer, km.
 pub const AIRGLOW_HEIGHT_KM: f64 = 90.0;
-/// Integrated starlight at the galactic poles, S10 (the floor under the map).
-pub const STARLIGHT_FLOOR_S10: f64 = 25.0;
+/// Integrated starlight at the galactic poles without the drawn catalogue
+/// stars, S10 (the floor under the map): 25 − 15.9.
+pub const STARLIGHT_FLOOR_S10: f64 = 9.1;
 /// Mean obliquity of the ecliptic at J2000.0 (IAU 1976), radians.
 const OBLIQUITY_J2000: f32 = 0.409_092_8;
 const EARTH_RADIUS_KM: f64 = 6371.0;
@@ -241,7 +248,7 @@ mod tests {
 
     #[test]
     fn band_mean_matches_its_calibration() {
-        // Mean over |b| < 5° of the map = 225 S10 (by construction of the
+        // Mean over |b| < 5° of the map = 200.2 S10 (by construction of the
         // header scale; checks the decoding and the frame together).
         let m = MilkyWayMap::embedded().unwrap();
         let gal_to_icrs = glam::Mat3::from_cols_array(&[
@@ -268,7 +275,7 @@ mod tests {
             }
         }
         let band = s / n / S10_CD_M2;
-        assert!((band / 225.0 - 1.0).abs() < 0.1, "{band} S10");
+        assert!((band / 200.2 - 1.0).abs() < 0.1, "{band} S10");
     }
 
     #[test]
