@@ -108,16 +108,21 @@ const MUNICH: (f64, f64) = (48.14, 11.58);
 
 #[test]
 fn fifteen_brightest_stars_above_20_degrees_peak_within_one_pixel() {
+    // A night render: stars over the Milky Way, through the atmosphere.
     let time = "2024-01-15T21:00:00Z";
     let s = scene(
         time,
         MUNICH.0,
         MUNICH.1,
-        vec![Effect::Stars],
+        vec![Effect::Milkyway, Effect::Stars, Effect::Atmosphere],
         1024,
         Projection::Fisheye,
     );
     let out = render(&s);
+    for p in &out.passes {
+        let want = ["milkyway", "stars", "atmosphere"].contains(&p.name.as_str());
+        assert_eq!(p.ran, want, "{}: {:?}", p.name, p.reason);
+    }
     let red = reduction(time);
     let cat = Catalog::embedded().unwrap();
     let mut n = 0;

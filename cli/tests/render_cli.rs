@@ -210,3 +210,49 @@ fn sun_disk_in_equirect_exr_matches_ephemeris_and_solar_illuminance() {
     assert!((e / want - 1.0).abs() < 0.02, "{e} lx vs {want} lx");
     assert!((120_000.0..136_000.0).contains(&want));
 }
+
+#[test]
+fn stars_pass_does_not_run_at_local_noon_and_stats_say_why() {
+    // Munich, local noon on a clear summer day; automatic exposure.
+    let f = tmp("noon.json");
+    std::fs::write(
+        &f,
+        r#"{"camera": {"width": 64, "height": 64}, "lut": {"multiscatter_n": 8, "sky_view_w": 32, "sky_view_h": 32}}"#,
+    )
+    .unwrap();
+    let (png, stats) = (tmp("noon.png"), tmp("noon-stats.json"));
+    let (code, _, err) = himmel(&[
+        "render",
+        "--scene",
+        &f,
+        "--time",
+        "2024-06-21T11:10:00Z",
+        "--lat",
+        "48.14",
+        "--lon",
+        "11.58",
+        "--stats",
+        &stats,
+        "--output",
+        &png,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let stars = s["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "stars")
+        .unwrap();
+    assert_eq!(stars["ran"], false);
+    assert!(stars.get("ms").is_none());
+    let reason = stars["reason"].as_str().unwrap();
+    assert!(
+        reason.starts_with("sky background brighter than the brightest visible star"),
+        "{reason}"
+    );
+    for p in [f, png, stats] {
+        let _ = std::fs::remove_file(p);
+    }
+}
