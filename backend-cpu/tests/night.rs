@@ -438,3 +438,51 @@ fn scintillation_is_deterministic_per_seed() {
     let total = |p: &[[f32; 3]]| p.iter().map(|q| luminance(*q) as f64).sum::<f64>();
     assert!((total(&a) / total(&d) - 1.0).abs() < 0.1);
 }
+
+#[test]
+fn auto_exposure_estimate_before_rendering_matches_the_metering() {
+    use himmel_skymodel::atmosphere::SkyViewInput;
+    // Noon, sunset, civil and nautical twilight, night (Munich, 21 June 2024).
+    for time in [
+        "2024-06-21T11:10:00Z",
+        "2024-06-21T19:05:00Z",
+        "2024-06-21T19:45:00Z",
+        "2024-06-21T20:30:00Z",
+        "2024-06-21T23:00:00Z",
+    ] {
+        let mut s = scene(
+            time,
+            MUNICH.0,
+            MUNICH.1,
+            Effect::ALL.to_vec(),
+            128,
+            Projection::Fisheye,
+        );
+        s.exposure = Exposure::Auto;
+        let state = SkyState::at(&s).unwrap();
+        let mut r = CpuRenderer::new(None);
+        let out = r.render(&s, &state).unwrap();
+        let metered = himmel_skymodel::camera::meter_ev100(&out.image.pixels, &out.image.valid);
+        let (luts, _) = r.luts(&s.atmosphere, &s.lut);
+        let input = SkyViewInput {
+            observer_altitude_km: state.observer_altitude_km as f32,
+            sun_sin_elevation: state.sun.dir().as_vec3().normalize().z,
+            irradiance_scale: state.sun.irradiance_scale as f32,
+        };
+        let sv = himmel_cpu::sky_view(luts, &input);
+        let dirs = himmel_cpu::directions(&s.camera);
+        let frame =
+            himmel_cpu::night_pass::NightFrame::prepare(&s, &state, Some(luts), Some(&sv), &dirs);
+        let ran: Vec<_> = out
+            .passes
+            .iter()
+            .filter(|p| p.ran)
+            .map(|p| p.name.clone())
+            .collect();
+        eprintln!(
+            "{time}: estimated EV100 {:.2}, metered {metered:.2}; ran {ran:?}",
+            frame.ev100
+        );
+        assert!((frame.ev100 - metered).abs() < 0.25, "{time}");
+    }
+}

@@ -13,7 +13,8 @@
 //!   (J2000), α = 90° − 360° u (mod 360°), δ = 90° − 180° v; the tool checks
 //!   it against M42, the LMC, the SMC, M31, the Pleiades and η Car (all within
 //!   0.3°). The sky is rotated into the horizon frame of date by the catalogue
-//!   stars' ICRS → ENU matrix (precession, nutation, sidereal time, latitude).
+//!   stars' ICRS → ENU matrix (precession, nutation, sidereal time, latitude)
+//!   after refraction is taken off the altitude below 10° ([`unrefracted`]).
 //!   Calibration (in the file header): the integrated starlight of stars
 //!   of all magnitudes, averaged over galactic longitude, is ≈ 250 S10 on the
 //!   galactic equator and ≈ 25 S10 at the galactic poles (Roach & Megill
@@ -48,6 +49,9 @@
 use std::sync::OnceLock;
 
 use glam::{DMat3, Mat3, Vec3};
+use himmel_astro::frames::{
+    refraction_apparent_to_true, STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C,
+};
 
 use crate::stars::colour_from_bv;
 
@@ -78,6 +82,19 @@ pub fn van_rhijn(cos_z: f32) -> f32 {
     let k = (EARTH_RADIUS_KM / (EARTH_RADIUS_KM + AIRGLOW_HEIGHT_KM)) as f32;
     let s2 = (1.0 - cos_z * cos_z).max(0.0);
     1.0 / (1.0 - k * k * s2).max(1e-6).sqrt()
+}
+
+/// The true (airless) direction of an apparent ENU direction `d`:
+/// standard refraction (1010 hPa, 10 °C, Meeus eq. 16.3) taken off the altitude.
+pub fn unrefracted(d: Vec3) -> Vec3 {
+    let horizontal = d.x.hypot(d.y);
+    if horizontal < 1e-9 {
+        return d;
+    }
+    let alt = d.z.atan2(horizontal) as f64;
+    let r = refraction_apparent_to_true(alt, STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C);
+    let (s, c) = ((alt - r) as f32).sin_cos();
+    Vec3::new(d.x / horizontal * c, d.y / horizontal * c, s)
 }
 
 /// The Milky Way brightness map (see the module documentation).
@@ -204,7 +221,10 @@ impl NightBackground {
         if d.z < 0.0 {
             return [0.0; 3];
         }
-        let u = self.enu_to_icrs * d;
+        // Low down, look up the sky where refraction brings it from (Bennett,
+        // Meeus eq. 16.3; 5′ at 10°, 29′ at the horizon), as for the stars.
+        let d_true = if d.z < 0.18 { unrefracted(d) } else { d };
+        let u = self.enu_to_icrs * d_true;
         let mw = self.map.map_or([0.0; 3], |m| m.radiance(u));
         let (se, ce) = OBLIQUITY_J2000.sin_cos();
         let zl = zodiacal_s10((-se * u.y + ce * u.z).clamp(-1.0, 1.0));
@@ -285,5 +305,13 @@ mod tests {
         assert!((5.0..6.5).contains(&h), "{h}");
         assert!((zodiacal_s10(0.0) - 200.0).abs() < 1e-3);
         assert!((zodiacal_s10(1.0) - 60.0).abs() < 1e-3);
+        // Unrefracting undoes the stars' refraction (within the two formulas'
+        // 0.1′ mutual consistency, Meeus ch. 16).
+        for alt in [0.0f64, 2.0, 9.0] {
+            let d = glam::DVec3::new(0.0, alt.to_radians().cos(), alt.to_radians().sin());
+            let back = unrefracted(crate::stars::refracted(d).as_vec3());
+            let err = (back.z.asin() as f64 - alt.to_radians()).abs().to_degrees() * 60.0;
+            assert!(err < 0.2, "{alt}°: {err}′");
+        }
     }
 }
