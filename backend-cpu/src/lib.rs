@@ -213,10 +213,13 @@ impl SkyRenderer for CpuRenderer {
         // Geometry: one direction per pixel centre.
         let tg = Clock::now();
         let dirs = directions(&cam);
+        // The image buffer, written on all cores so that its pages are
+        // mapped here and not by whichever pass touches them first (the
+        // sparse star splats would otherwise pay for the page faults).
+        let mut pixels: Vec<[f32; 3]> = (0..w * h).into_par_iter().map(|_| [0.0f32; 3]).collect();
         let geometry_ms = ms(tg);
         let mut sky_view_ms = 0.0;
         let valid: Vec<bool> = dirs.iter().map(Option::is_some).collect();
-        let mut pixels = vec![[0.0f32; 3]; w * h];
         let mut stats = Vec::new();
         let mut precompute_ms = 0.0;
         let mut lut_source = "none";

@@ -9,7 +9,7 @@ use himmel_skymodel::milkyway::NightBackground;
 use himmel_skymodel::night::{cull_diffuse, cull_points, estimate_ev100, white_luminance};
 use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::stars::{
-    catalogue, splat, star_source, Extinction, PointSource, Psf, SplatScratch,
+    catalogue, splat_at, star_source, Extinction, PointSource, Psf, SplatScratch,
 };
 use himmel_skymodel::{Effect, Scene, SkyState};
 use rayon::prelude::*;
@@ -17,6 +17,15 @@ use rayon::prelude::*;
 /// Sub-sampling step (pixels, each direction) of the exposure and Milky Way
 /// culling estimates.
 pub const SAMPLE_STEP: usize = 16;
+
+/// A source ready to splat.
+struct Prepared {
+    pos: (f64, f64),
+    dir_z: f32,
+    lux: f32,
+    rgb: [f32; 3],
+    glare: bool,
+}
 
 /// Per-frame state shared by the night passes.
 pub struct NightFrame {
@@ -138,24 +147,93 @@ impl NightFrame {
         }
     }
 
-    /// Splats `sources` (extinction applied here) into `pixels`.
+    /// Splats `sources` (extinction applied here) into `pixels`: sources
+    /// whose core may overflow into a glare disk one after the other over
+    /// the whole image, the rest in parallel over bands of rows (each band
+    /// takes the sources whose core footprint reaches it and writes only its
+    /// own rows; the footprint and its normalisation are the whole image's,
+    /// so the result is the same as a serial splat).
     fn splat_all(&self, pixels: &mut [[f32; 3]], scene: &Scene, sources: &[PointSource]) {
         let psf = self.psf(scene);
+        let cam = &scene.camera;
+        let (w, h) = cam.image_size();
+        let (w, h) = (w as usize, h as usize);
+        // Upper bound of the core's peak weight (see `core_peak_luminance`).
+        let sigma = psf.core_px.max(0.1);
+        let w0 = (1.0 / (2.0 * std::f32::consts::PI * sigma * sigma)).min(1.0);
+        // Extinction, colour and image position of each source, in parallel.
+        let mut prepared: Vec<Prepared> = sources
+            .par_iter()
+            .with_min_len(256)
+            .filter_map(|s| {
+                let t = self.extinction.rgb(s.dir);
+                let c = [s.rgb[0] * t[0], s.rgb[1] * t[1], s.rgb[2] * t[2]];
+                let y = luminance(c);
+                let (cx, cy) = cam.dir_to_pixel(s.dir.as_dvec3())?;
+                let lux = s.lux * y;
+                let (fw, fh) = (w as f64, h as f64);
+                let margin = 64.0;
+                if y <= 0.0
+                    || !(-margin..fw + margin).contains(&cx)
+                    || !(-margin..fh + margin).contains(&cy)
+                {
+                    return None;
+                }
+                // Glare candidates: a core peak within 2× of white (the
+                // splat decides exactly).
+                let glare = psf.glare > 0.0 && {
+                    let omega = cam.pixel_solid_angle(cx.floor() + 0.5, cy.floor() + 0.5) as f32;
+                    lux * w0 * 2.0 >= psf.white_cd_m2 * omega
+                };
+                Some(Prepared {
+                    pos: (cx, cy),
+                    dir_z: s.dir.z,
+                    lux,
+                    rgb: [c[0] / y, c[1] / y, c[2] / y],
+                    glare,
+                })
+            })
+            .collect();
+        prepared.sort_by(|a, b| a.pos.1.total_cmp(&b.pos.1));
+        let reach = (2.5 * psf.core_px).ceil() as f64 + 1.0;
+        let bands = (rayon::current_num_threads() * 4).clamp(1, h.max(1));
+        let rows = h.div_ceil(bands);
+        pixels
+            .par_chunks_mut(rows * w)
+            .enumerate()
+            .for_each(|(b, band)| {
+                let (y0, y1) = ((b * rows) as f64, ((b + 1) * rows) as f64);
+                let first = prepared.partition_point(|p| p.pos.1 < y0 - reach);
+                let mut scratch = SplatScratch::default();
+                for p in prepared[first..]
+                    .iter()
+                    .take_while(|p| p.pos.1 < y1 + reach)
+                {
+                    if !p.glare {
+                        splat_at(
+                            band,
+                            b * rows * w,
+                            cam,
+                            p.pos,
+                            p.dir_z,
+                            p.lux,
+                            p.rgb,
+                            &psf,
+                            &mut scratch,
+                        );
+                    }
+                }
+            });
         let mut scratch = SplatScratch::default();
-        for s in sources {
-            let t = self.extinction.rgb(s.dir);
-            let c = [s.rgb[0] * t[0], s.rgb[1] * t[1], s.rgb[2] * t[2]];
-            let y = luminance(c);
-            if y <= 0.0 {
-                continue;
-            }
-            let rgb = [c[0] / y, c[1] / y, c[2] / y];
-            splat(
+        for p in prepared.iter().filter(|p| p.glare) {
+            splat_at(
                 pixels,
-                &scene.camera,
-                s.dir,
-                s.lux * y,
-                rgb,
+                0,
+                cam,
+                p.pos,
+                p.dir_z,
+                p.lux,
+                p.rgb,
                 &psf,
                 &mut scratch,
             );

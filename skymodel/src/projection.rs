@@ -272,7 +272,8 @@ impl Camera {
         match self.projection {
             Projection::Fisheye => {
                 let a = std::f64::consts::FRAC_PI_2 / (w.min(h) / 2.0);
-                let z = a * (px - w / 2.0).hypot(py - h / 2.0);
+                let (dx, dy) = (px - w / 2.0, py - h / 2.0);
+                let z = a * (dx * dx + dy * dy).sqrt();
                 if z > std::f64::consts::PI {
                     0.0
                 } else if z < 1e-9 {
@@ -290,13 +291,15 @@ impl Camera {
             Projection::Perspective => {
                 let s = 2.0 * (self.fov_deg.to_radians() / 2.0).tan() / h;
                 let (x, y) = ((px - w / 2.0) * s, (py - h / 2.0) * s);
-                s * s / (1.0 + x * x + y * y).powf(1.5)
+                let q = 1.0 + x * x + y * y;
+                s * s / (q * q.sqrt())
             }
             Projection::Cubemap => {
                 let face = (px / h).floor().clamp(0.0, 5.0);
                 let s = 2.0 / h;
                 let (x, y) = ((px - face * h) * s - 1.0, py * s - 1.0);
-                s * s / (1.0 + x * x + y * y).powf(1.5)
+                let q = 1.0 + x * x + y * y;
+                s * s / (q * q.sqrt())
             }
         }
     }

@@ -101,15 +101,51 @@ pub struct CatalogueStar {
     pub hip: u32,
 }
 
+/// B−V → colour at 0.01 mag steps over [−0.4, 2.5] (the range
+/// `star_rgb` clamps to), interpolated linearly: the same colours as
+/// `star_rgb` within 10⁻³, without a Planck integration per star.
+struct ColourTable(Vec<[f32; 3]>);
+
+impl ColourTable {
+    const LO: f64 = -0.4;
+    const STEP: f64 = 0.01;
+    const N: usize = 291;
+
+    fn new() -> Self {
+        ColourTable(
+            (0..Self::N)
+                .map(|i| colour_from_bv(Self::LO + Self::STEP * i as f64))
+                .collect(),
+        )
+    }
+
+    fn rgb(&self, bv: Option<f64>) -> [f32; 3] {
+        let Some(bv) = bv.filter(|b| b.is_finite()) else {
+            let c = star_rgb(None, LocusModel::Blackbody);
+            return [c[0] as f32, c[1] as f32, c[2] as f32];
+        };
+        let x = ((bv - Self::LO) / Self::STEP).clamp(0.0, (Self::N - 1) as f64);
+        let i = (x as usize).min(Self::N - 2);
+        let f = (x - i as f64) as f32;
+        let (a, b) = (self.0[i], self.0[i + 1]);
+        [
+            a[0] + (b[0] - a[0]) * f,
+            a[1] + (b[1] - a[1]) * f,
+            a[2] + (b[2] - a[2]) * f,
+        ]
+    }
+}
+
 fn prepare(cat: &Catalog) -> Vec<CatalogueStar> {
+    let colours = ColourTable::new();
     cat.stars()
         .iter()
         .map(|s| {
-            let c = star_rgb(s.bv, LocusModel::Blackbody);
+            let c = colours.rgb(s.bv);
             CatalogueStar {
                 fast: FastStar::new(&s.astrometry, J2000),
                 vmag: s.vmag as f32,
-                rgb: [c[0] as f32, c[1] as f32, c[2] as f32],
+                rgb: c,
                 hip: s.hip,
             }
         })
@@ -312,27 +348,57 @@ pub fn splat(
     psf: &Psf,
     scratch: &mut SplatScratch,
 ) -> f32 {
-    if lux <= 0.0 || !lux.is_finite() {
-        return 0.0;
-    }
     let Some((cx, cy)) = cam.dir_to_pixel(dir.as_dvec3()) else {
         return 0.0;
     };
+    splat_at(pixels, 0, cam, (cx, cy), dir.z, lux, rgb, psf, scratch)
+}
+
+/// [`splat`] at the continuous image position `(cx, cy)` of a source whose
+/// direction has zenith cosine `dir_z`, writing only the part of the image
+/// held by `pixels`: the row-major pixels from index `offset` on (a band of
+/// rows, so that bands can be splatted in parallel; the footprint and its
+/// normalisation are always those of the whole image). Returns the flux
+/// deposited in the whole image.
+#[allow(clippy::too_many_arguments)]
+pub fn splat_at(
+    pixels: &mut [[f32; 3]],
+    offset: usize,
+    cam: &Camera,
+    (cx, cy): (f64, f64),
+    dir_z: f32,
+    lux: f32,
+    rgb: [f32; 3],
+    psf: &Psf,
+    scratch: &mut SplatScratch,
+) -> f32 {
+    if lux <= 0.0 || !lux.is_finite() {
+        return 0.0;
+    }
     let (w, h) = cam.image_size();
     let (w, h) = (w as i64, h as i64);
     let face = (cx / h as f64).floor() as i64;
     // Near the horizon each footprint pixel is checked against the ground.
-    let near_horizon = (dir.z as f64) < 4.0 * cam.max_pixel_angle() * psf.core_px.max(1.0) as f64;
+    let near_horizon = (dir_z as f64) < 4.0 * cam.max_pixel_angle() * psf.core_px.max(1.0) as f64;
     let sigma = psf.core_px.max(0.1);
     let r = (2.5 * sigma).ceil() as i64;
     let (ci, cj) = (cx.floor() as i64, cy.floor() as i64);
     let inv2s2 = 1.0 / (2.0 * sigma * sigma);
+    // The Gaussian is separable: one exponential per column and per row.
+    let mut gx = [0.0f32; 32];
+    let mut gy = [0.0f32; 32];
+    let n = (2 * r + 1).min(32) as usize;
+    for k in 0..n {
+        let o = (k as i64 - r) as f64 + 0.5;
+        gx[k] = (-(((ci as f64 + o - cx).powi(2)) as f32) * inv2s2).exp();
+        gy[k] = (-(((cj as f64 + o - cy).powi(2)) as f32) * inv2s2).exp();
+    }
     let taps = &mut scratch.taps;
     taps.clear();
     let mut sum = 0.0f32;
     let mut peak = (0.0f32, 1.0f32);
-    for j in cj - r..=cj + r {
-        for i in ci - r..=ci + r {
+    for (b, j) in (cj - r..=cj + r).enumerate().take(n) {
+        for (a, i) in (ci - r..=ci + r).enumerate().take(n) {
             let Some(idx) = pixel_index(cam, w, h, i, j, face) else {
                 continue;
             };
@@ -348,7 +414,7 @@ pub fn splat(
             if near_horizon && cam.pixel_to_dir(px, py).map_or(true, |d| d.z < 0.0) {
                 continue;
             }
-            let wt = (-d2 * inv2s2).exp();
+            let wt = gx[a] * gy[b];
             sum += wt;
             if wt > peak.0 {
                 peak = (wt, omega);
@@ -368,8 +434,10 @@ pub fn splat(
     };
     let k = core_lux / sum;
     for &(idx, wt, omega) in taps.iter() {
+        let Some(p) = idx.checked_sub(offset).and_then(|i| pixels.get_mut(i)) else {
+            continue;
+        };
         let l = k * wt / omega;
-        let p = &mut pixels[idx];
         p[0] += l * rgb[0];
         p[1] += l * rgb[1];
         p[2] += l * rgb[2];
@@ -413,8 +481,10 @@ pub fn splat(
     }
     let k = excess / gsum;
     for &(idx, wt, omega) in taps.iter() {
+        let Some(p) = idx.checked_sub(offset).and_then(|i| pixels.get_mut(i)) else {
+            continue;
+        };
         let l = k * wt / omega;
-        let p = &mut pixels[idx];
         p[0] += l * rgb[0];
         p[1] += l * rgb[1];
         p[2] += l * rgb[2];
@@ -556,6 +626,23 @@ mod tests {
         let (betel, rigel) = (by(27989), by(24436));
         assert!(betel[0] > betel[2] * 1.5, "{betel:?}");
         assert!(rigel[2] > rigel[0], "{rigel:?}");
+    }
+
+    #[test]
+    fn colour_table_matches_the_catalogue_colours() {
+        let t = ColourTable::new();
+        for i in 0..=600 {
+            let bv = -0.6 + i as f64 * 0.005;
+            let want = star_rgb(Some(bv), LocusModel::Blackbody);
+            let got = t.rgb(Some(bv));
+            for k in 0..3 {
+                assert!(
+                    (got[k] as f64 - want[k]).abs() < 2e-3,
+                    "{bv}: {got:?} vs {want:?}"
+                );
+            }
+        }
+        assert_eq!(t.rgb(None), [1.0; 3]);
     }
 
     #[test]
