@@ -486,3 +486,43 @@ fn auto_exposure_estimate_before_rendering_matches_the_metering() {
         assert!((frame.ev100 - metered).abs() < 0.25, "{time}");
     }
 }
+
+#[test]
+fn band_parallel_splats_equal_a_serial_splat() {
+    use himmel_skymodel::night::white_luminance;
+    use himmel_skymodel::stars::{splat, Psf, SplatScratch};
+    let s = scene(
+        "2024-01-15T21:00:00Z",
+        MUNICH.0,
+        MUNICH.1,
+        vec![Effect::Stars],
+        300,
+        Projection::Fisheye,
+    );
+    let out = render(&s);
+    let state = SkyState::at(&s).unwrap();
+    let psf = Psf {
+        core_px: s.stars.core_px as f32,
+        glare: s.stars.glare as f32,
+        white_cd_m2: white_luminance(-6.0),
+    };
+    let mut serial = vec![[0.0f32; 3]; 300 * 300];
+    let mut scratch = SplatScratch::default();
+    for p in state.night.stars(&s) {
+        splat(
+            &mut serial,
+            &s.camera,
+            p.dir,
+            p.lux,
+            p.rgb,
+            &psf,
+            &mut scratch,
+        );
+    }
+    let peak = serial.iter().map(|p| luminance(*p)).fold(0.0f32, f32::max);
+    for (a, b) in out.image.pixels.iter().zip(&serial) {
+        for k in 0..3 {
+            assert!((a[k] - b[k]).abs() <= 1e-5 * peak, "{a:?} vs {b:?}");
+        }
+    }
+}
