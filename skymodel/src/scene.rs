@@ -18,11 +18,11 @@ pub enum Effect {
     Sun,
     /// The Moon (a later issue).
     Moon,
-    /// Catalogue stars (a later issue).
+    /// Catalogue stars as point sources (`crate::stars`).
     Stars,
-    /// Planets (a later issue).
+    /// Mercury–Saturn as point sources.
     Planets,
-    /// The Milky Way (a later issue).
+    /// The Milky Way and the diffuse night-sky light (`crate::milkyway`).
     Milkyway,
     /// Cloud layers (a later issue).
     Clouds,
