@@ -159,14 +159,23 @@ impl MilkyWayMap {
     pub fn radiance(&self, u: Vec3) -> [f32; 3] {
         let ra = u.y.atan2(u.x);
         let dec = u.z.clamp(-1.0, 1.0).asin();
-        let fu = (0.25 - ra / std::f32::consts::TAU).rem_euclid(1.0);
-        let fv = 0.5 - dec / std::f32::consts::PI;
+        // u = 0.25 − α/2π in [−0.25, 0.75] for α in [−π, π]; no divisions
+        // or remainders on this hot path.
+        let mut fu = 0.25 - ra * (0.5 / std::f32::consts::PI);
+        if fu < 0.0 {
+            fu += 1.0;
+        }
+        let fv = 0.5 - dec * (1.0 / std::f32::consts::PI);
         let x = fu * self.w as f32 - 0.5;
         let y = (fv * self.h as f32 - 0.5).clamp(0.0, (self.h - 1) as f32);
         let (x0, y0) = (x.floor(), y.floor());
         let (tx, ty) = (x - x0, y - y0);
-        let xi0 = (x0 as i64).rem_euclid(self.w as i64) as usize;
-        let xi1 = (xi0 + 1) % self.w;
+        let xi0 = if x0 < 0.0 {
+            self.w - 1
+        } else {
+            (x0 as usize).min(self.w - 1)
+        };
+        let xi1 = if xi0 + 1 == self.w { 0 } else { xi0 + 1 };
         let yi0 = y0 as usize;
         let yi1 = (yi0 + 1).min(self.h - 1);
         let t = |xi: usize, yi: usize| self.data[yi * self.w + xi];
