@@ -26,4 +26,7 @@ common=(--lat 48.14 --lon 11.58 --width 320 --height 320 --projection fisheye)
 "$himmel" render --time 2025-03-14T06:58:43Z --lat 19.43 --lon -99.13 --projection perspective --fov 0.6 \
   --yaw 190.657 --pitch 72.716 --effects moon,atmosphere --exposure 3 --width 320 --height 320 \
   --output "$out/lunar-eclipse-2025.png"
+# Night: stars, planets, Milky Way (Munich, 15 January 2024, 22:00 local time), fixed exposure.
+"$himmel" render --time 2024-01-15T21:00:00Z --lat 48.14 --lon 11.58 --width 480 --height 480 \
+  --effects stars,planets,milkyway,atmosphere --exposure -6 --output "$out/night.png"
 ls -l "$out"

@@ -5,7 +5,10 @@
 //! * `parameter_change_render_1920x1080` — a new aerosol density: precompute,
 //!   sky view and a full 1920×1080 fisheye frame with atmosphere + Sun;
 //! * `frame_1920x1080_fisheye` — one frame with the LUTs in memory (the
-//!   per-frame sky-view LUT and every pixel).
+//!   per-frame sky-view LUT and every pixel);
+//! * `stars_pass_1920x1080` — the stars pass alone (8 874 catalogue stars:
+//!   positions, refraction, extinction, PSF splats) at night, fisheye;
+//! * `milkyway_pass_1920x1080` — the Milky Way / night-sky light pass alone.
 //!
 //! `cargo bench -p himmel-cpu --bench render`
 
@@ -48,6 +51,20 @@ fn benches(c: &mut Criterion) {
     r.render(&s, &state).unwrap();
     g.bench_function("frame_1920x1080_fisheye", |b| {
         b.iter(|| r.render(&s, &state).unwrap())
+    });
+    let mut night = scene();
+    night.time.utc = "2024-01-15T21:00:00Z".into();
+    night.effects = vec![Effect::Stars, Effect::Milkyway];
+    night.exposure = himmel_skymodel::Exposure::Ev100(-6.0);
+    let nstate = SkyState::at(&night).unwrap();
+    let dirs = himmel_cpu::directions(&night.camera);
+    let frame = himmel_cpu::night_pass::NightFrame::prepare(&night, &nstate, None, None, &dirs);
+    let mut pixels = vec![[0.0f32; 3]; dirs.len()];
+    g.bench_function("stars_pass_1920x1080", |b| {
+        b.iter(|| frame.stars(&mut pixels, &night, &nstate))
+    });
+    g.bench_function("milkyway_pass_1920x1080", |b| {
+        b.iter(|| frame.milkyway(&mut pixels, &dirs))
     });
     g.finish();
 }

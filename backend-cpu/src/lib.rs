@@ -9,6 +9,7 @@
 
 pub mod cache;
 pub mod moon_pass;
+pub mod night_pass;
 pub mod output;
 
 use std::path::PathBuf;
@@ -183,6 +184,16 @@ impl CpuRenderer {
     }
 }
 
+/// The sky-view inputs of `state`.
+fn sky_view_input(state: &SkyState) -> SkyViewInput {
+    SkyViewInput {
+        observer_altitude_km: state.observer_altitude_km as f32,
+        sun_sin_elevation: state.sun.dir().as_vec3().normalize().z,
+        // Scaled by the visible fraction of the solar disk (solar eclipses).
+        irradiance_scale: state.sun.sky_irradiance_scale() as f32,
+    }
+}
+
 fn ms(t: Clock) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
@@ -204,10 +215,13 @@ impl SkyRenderer for CpuRenderer {
         // Geometry: one direction per pixel centre.
         let tg = Clock::now();
         let dirs = directions(&cam);
+        // The image buffer, written on all cores so that its pages are
+        // mapped here and not by whichever pass touches them first (the
+        // sparse star splats would otherwise pay for the page faults).
+        let mut pixels: Vec<[f32; 3]> = (0..w * h).into_par_iter().map(|_| [0.0f32; 3]).collect();
         let geometry_ms = ms(tg);
         let mut sky_view_ms = 0.0;
         let valid: Vec<bool> = dirs.iter().map(Option::is_some).collect();
-        let mut pixels = vec![[0.0f32; 3]; w * h];
         let mut stats = Vec::new();
         let mut precompute_ms = 0.0;
         let mut lut_source = "none";
@@ -220,28 +234,56 @@ impl SkyRenderer for CpuRenderer {
             precompute_ms = ms(tp);
             lut_source = source;
         }
+        // The night passes decide before rendering whether they can show
+        // at the chosen exposure; they need the sky view for that.
+        let mut sv = None;
+        let night = if [Effect::Milkyway, Effect::Stars, Effect::Planets]
+            .into_iter()
+            .any(|e| state.runs(e))
+        {
+            let luts = self
+                .luts
+                .as_ref()
+                .filter(|_| state.runs(Effect::Atmosphere));
+            if let Some(l) = luts {
+                let tsv = Clock::now();
+                sv = Some(sky_view(l, &sky_view_input(state)));
+                sky_view_ms = ms(tsv);
+            }
+            Some(night_pass::NightFrame::prepare(
+                scene,
+                state,
+                luts,
+                sv.as_ref(),
+                &dirs,
+            ))
+        } else {
+            None
+        };
         for planned in &state.passes {
-            if !planned.run {
+            let culled = night.as_ref().and_then(|n| n.reason(planned.effect));
+            if !planned.run || culled.is_some() {
                 stats.push(PassStat {
                     name: planned.effect.name().into(),
                     ran: false,
                     ms: None,
-                    reason: planned.reason.clone(),
+                    reason: planned.reason.clone().or(culled.map(str::to_string)),
                 });
                 continue;
             }
             let t0 = Clock::now();
             match planned.effect {
                 Effect::Atmosphere => {
-                    let (luts, _) = self.luts(&scene.atmosphere, &scene.lut);
-                    let input = SkyViewInput {
-                        observer_altitude_km: state.observer_altitude_km as f32,
-                        sun_sin_elevation: sun_dir.z,
-                        irradiance_scale: state.sun.sky_irradiance_scale() as f32,
+                    let sv = match sv.take() {
+                        Some(sv) => sv,
+                        None => {
+                            let (luts, _) = self.luts(&scene.atmosphere, &scene.lut);
+                            let tsv = Clock::now();
+                            let sv = sky_view(luts, &sky_view_input(state));
+                            sky_view_ms = ms(tsv);
+                            sv
+                        }
                     };
-                    let tsv = Clock::now();
-                    let sv = sky_view(luts, &input);
-                    sky_view_ms = ms(tsv);
                     pixels
                         .par_iter_mut()
                         .zip(dirs.par_iter())
@@ -328,6 +370,15 @@ impl SkyRenderer for CpuRenderer {
                     let r0 =
                         luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
                     moon_pass::render(&mut pixels, &dirs, w, scene, state, luts, r0);
+                }
+                Effect::Milkyway | Effect::Stars | Effect::Planets => {
+                    if let Some(n) = &night {
+                        match planned.effect {
+                            Effect::Milkyway => n.milkyway(&mut pixels, &dirs),
+                            Effect::Stars => n.stars(&mut pixels, scene, state),
+                            _ => n.planets(&mut pixels, scene, state),
+                        }
+                    }
                 }
                 other => {
                     return Err(RenderError::Other(format!(

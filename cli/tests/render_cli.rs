@@ -210,3 +210,151 @@ fn sun_disk_in_equirect_exr_matches_ephemeris_and_solar_illuminance() {
     assert!((e / want - 1.0).abs() < 0.02, "{e} lx vs {want} lx");
     assert!((120_000.0..136_000.0).contains(&want));
 }
+
+#[test]
+fn stars_pass_does_not_run_at_local_noon_and_stats_say_why() {
+    // Munich, local noon on a clear summer day; automatic exposure.
+    let f = tmp("noon.json");
+    std::fs::write(
+        &f,
+        r#"{"camera": {"width": 64, "height": 64}, "lut": {"multiscatter_n": 8, "sky_view_w": 32, "sky_view_h": 32}}"#,
+    )
+    .unwrap();
+    let (png, stats) = (tmp("noon.png"), tmp("noon-stats.json"));
+    let (code, _, err) = himmel(&[
+        "render",
+        "--scene",
+        &f,
+        "--time",
+        "2024-06-21T11:10:00Z",
+        "--lat",
+        "48.14",
+        "--lon",
+        "11.58",
+        "--stats",
+        &stats,
+        "--output",
+        &png,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let stars = s["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "stars")
+        .unwrap();
+    assert_eq!(stars["ran"], false);
+    assert!(stars.get("ms").is_none());
+    let reason = stars["reason"].as_str().unwrap();
+    assert!(
+        reason.starts_with("sky background brighter than the brightest visible star"),
+        "{reason}"
+    );
+    for p in [f, png, stats] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+#[test]
+fn night_exr_star_peaks_and_illuminance_match_himmel_stars() {
+    // Acceptance as measured from the outside: an EXR fisheye at a fixed
+    // exposure, reference places from `himmel stars` (the exact reduction,
+    // unrefracted) plus standard refraction.
+    let (t, lat, lon) = ("2024-01-15T21:00:00Z", "48.14", "11.58");
+    let exr = tmp("night.exr");
+    let (code, _, err) = himmel(&[
+        "render",
+        "--time",
+        t,
+        "--lat",
+        lat,
+        "--lon",
+        lon,
+        "--effects",
+        "stars",
+        "--exposure",
+        "-6",
+        "--output",
+        &exr,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let (w, h, px) = himmel_cpu::output::read_exr(std::path::Path::new(&exr)).unwrap();
+    let _ = std::fs::remove_file(&exr);
+    assert_eq!((w, h), (1024, 1024));
+    let (code, json, err) = himmel(&[
+        "stars",
+        "--time",
+        t,
+        "--lat",
+        lat,
+        "--lon",
+        lon,
+        "--above-horizon",
+        "--format",
+        "json",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let stars: Vec<serde_json::Value> = serde_json::from_str(&json).unwrap();
+    let lum = |i: i64, j: i64| {
+        let p = px[j as usize * w + i as usize];
+        (0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2]) as f64
+    };
+    // Pixel of a star: refracted altitude, then the fisheye of conventions.md.
+    let place = |s: &serde_json::Value| {
+        let alt = s["alt_deg"].as_f64().unwrap();
+        let az = s["az_deg"].as_f64().unwrap().to_radians();
+        let r = himmel_astro::frames::refraction_true_to_apparent(alt.to_radians(), 1010.0, 10.0);
+        let rho = (90.0 - alt - r.to_degrees()) / 90.0 * 512.0;
+        (512.0 - rho * az.sin(), 512.0 - rho * az.cos())
+    };
+    let mut n = 0;
+    for s in stars
+        .iter()
+        .filter(|s| s["alt_deg"].as_f64().unwrap() > 20.0)
+        .take(15)
+    {
+        let (x, y) = place(s);
+        let (ci, cj) = (x.floor() as i64, y.floor() as i64);
+        let mut best = (f64::MIN, 0.0, 0.0);
+        for j in cj - 4..=cj + 4 {
+            for i in ci - 4..=ci + 4 {
+                if lum(i, j) > best.0 {
+                    best = (lum(i, j), i as f64 + 0.5, j as f64 + 0.5);
+                }
+            }
+        }
+        let d = (best.1 - x).hypot(best.2 - y);
+        assert!(d <= 1.0, "{}: {d} px", s["name"]);
+        n += 1;
+    }
+    assert_eq!(n, 15);
+    // Sirius: Σ L·Ω over a 25×25 window, less the other stars inside it.
+    let a = std::f64::consts::FRAC_PI_2 / 512.0;
+    let sirius = stars.iter().find(|s| s["name"] == "Sirius").unwrap();
+    let (x, y) = place(sirius);
+    let (ci, cj) = (x.floor() as i64, y.floor() as i64);
+    let mut e = 0.0;
+    for j in cj - 12..=cj + 12 {
+        for i in ci - 12..=ci + 12 {
+            let z = a * ((i as f64 + 0.5 - 512.0).hypot(j as f64 + 0.5 - 512.0));
+            e += lum(i, j) * a * a * z.sin() / z;
+        }
+    }
+    let flux = |s: &serde_json::Value| 2.54e-6 * 10f64.powf(-0.4 * s["vmag"].as_f64().unwrap());
+    let others: f64 = stars
+        .iter()
+        .filter(|s| s["hip"] != sirius["hip"])
+        .filter(|s| {
+            let (ox, oy) = place(s);
+            (ox.floor() - ci as f64).abs() <= 12.0 && (oy.floor() - cj as f64).abs() <= 12.0
+        })
+        .map(flux)
+        .sum();
+    let want = flux(sirius);
+    assert!(
+        ((e - others) / want - 1.0).abs() < 0.10,
+        "{e} − {others} vs {want}"
+    );
+}

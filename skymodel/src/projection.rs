@@ -9,7 +9,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::units::Degrees;
+use crate::units::{Degrees, Steradians};
 
 /// The image projection.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -259,6 +259,51 @@ impl Camera {
         }
     }
 
+    /// The solid angle (sr) of the pixel whose centre is at continuous image
+    /// position (px, py): the exact area element of each projection times
+    /// one pixel. Fisheye (azimuthal equidistant, a = 90°/R per pixel):
+    /// a² · sin z / z at zenith angle z; equirect: (2π/W) · (sin h₁ − sin h₀)
+    /// over the pixel's altitude band; perspective and cube-map faces:
+    /// s² / (1 + x² + y²)^(3/2) on the tangent plane (s = pixel pitch in
+    /// tangent units). 0 outside the projection's domain.
+    pub fn pixel_solid_angle(&self, px: f64, py: f64) -> Steradians {
+        let (w, h) = self.image_size();
+        let (w, h) = (w as f64, h as f64);
+        match self.projection {
+            Projection::Fisheye => {
+                let a = std::f64::consts::FRAC_PI_2 / (w.min(h) / 2.0);
+                let (dx, dy) = (px - w / 2.0, py - h / 2.0);
+                let z = a * (dx * dx + dy * dy).sqrt();
+                if z > std::f64::consts::PI {
+                    0.0
+                } else if z < 1e-9 {
+                    a * a
+                } else {
+                    a * a * z.sin() / z
+                }
+            }
+            Projection::Equirect => {
+                let row = py.floor();
+                let h0 = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * (row + 1.0) / h;
+                let h1 = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * row / h;
+                std::f64::consts::TAU / w * (h1.sin() - h0.sin()).abs()
+            }
+            Projection::Perspective => {
+                let s = 2.0 * (self.fov_deg.to_radians() / 2.0).tan() / h;
+                let (x, y) = ((px - w / 2.0) * s, (py - h / 2.0) * s);
+                let q = 1.0 + x * x + y * y;
+                s * s / (q * q.sqrt())
+            }
+            Projection::Cubemap => {
+                let face = (px / h).floor().clamp(0.0, 5.0);
+                let s = 2.0 / h;
+                let (x, y) = ((px - face * h) * s - 1.0, py * s - 1.0);
+                let q = 1.0 + x * x + y * y;
+                s * s / (q * q.sqrt())
+            }
+        }
+    }
+
     /// An upper bound of the angle one pixel spans, radians (used to find
     /// the pixels that need supersampling near small bright sources).
     pub fn max_pixel_angle(&self) -> f64 {
@@ -405,6 +450,46 @@ mod tests {
             }
             assert!(n > 1000);
         }
+    }
+
+    #[test]
+    fn pixel_solid_angles_sum_to_the_covered_sphere() {
+        let sum = |c: &Camera| {
+            let (w, h) = c.image_size();
+            let mut s = 0.0;
+            for j in 0..h {
+                for i in 0..w {
+                    s += c.pixel_solid_angle(i as f64 + 0.5, j as f64 + 0.5);
+                }
+            }
+            s
+        };
+        let four_pi = 4.0 * std::f64::consts::PI;
+        let e = sum(&cam(Projection::Equirect, 90, 45));
+        assert!((e / four_pi - 1.0).abs() < 1e-9, "{e}");
+        let c = sum(&cam(Projection::Cubemap, 0, 64));
+        assert!((c / four_pi - 1.0).abs() < 1e-3, "{c}");
+        // Fisheye, square: the disk to the horizon is the hemisphere.
+        let mut f = cam(Projection::Fisheye, 400, 400);
+        let (w, h) = f.image_size();
+        let mut hemi = 0.0;
+        for j in 0..h {
+            for i in 0..w {
+                let (px, py) = (i as f64 + 0.5, j as f64 + 0.5);
+                if f.pixel_to_dir(px, py).unwrap().z >= 0.0 {
+                    hemi += f.pixel_solid_angle(px, py);
+                }
+            }
+        }
+        assert!(
+            (hemi / (2.0 * std::f64::consts::PI) - 1.0).abs() < 5e-3,
+            "{hemi}"
+        );
+        // Perspective: a 90° square frame covers 4π/6 (one cube face).
+        f = cam(Projection::Perspective, 200, 200);
+        f.fov_deg = 90.0;
+        let p = sum(&f);
+        assert!((p / (four_pi / 6.0) - 1.0).abs() < 1e-3, "{p}");
     }
 
     #[test]

@@ -18,11 +18,11 @@ pub enum Effect {
     Sun,
     /// The Moon.
     Moon,
-    /// Catalogue stars (a later issue).
+    /// Catalogue stars as point sources (`crate::stars`).
     Stars,
-    /// Planets (a later issue).
+    /// Mercury–Saturn as point sources.
     Planets,
-    /// The Milky Way (a later issue).
+    /// The Milky Way and the diffuse night-sky light (`crate::milkyway`).
     Milkyway,
     /// Cloud layers (a later issue).
     Clouds,
@@ -62,7 +62,15 @@ impl Effect {
 
     /// Whether this version renders the effect.
     pub fn available(self) -> bool {
-        matches!(self, Effect::Atmosphere | Effect::Sun | Effect::Moon)
+        matches!(
+            self,
+            Effect::Atmosphere
+                | Effect::Sun
+                | Effect::Moon
+                | Effect::Stars
+                | Effect::Planets
+                | Effect::Milkyway
+        )
     }
 }
 
@@ -123,6 +131,36 @@ impl Default for TimeSpec {
     }
 }
 
+/// Stars and planets as point sources (`crate::stars`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct StarParams {
+    /// Faintest V magnitude drawn, in [−2, 8] (default 6.5; above 6.5 the
+    /// V ≤ 8 table of 41 411 stars is used).
+    pub limit_mag: f64,
+    /// Standard deviation of the Gaussian PSF core, pixels, in [0.3, 4] (default 0.7).
+    pub core_px: f64,
+    /// Glare: scale of the glare disk that carries the flux a star's core
+    /// cannot show at the chosen exposure, in [0, 10] (default 1; 0 = no glare).
+    pub glare: f64,
+    /// Deterministic scintillation (twinkling) of the drawn flux (default false).
+    pub scintillation: bool,
+    /// Seed of the scintillation pattern (default 0).
+    pub seed: u64,
+}
+
+impl Default for StarParams {
+    fn default() -> Self {
+        StarParams {
+            limit_mag: 6.5,
+            core_px: 0.7,
+            glare: 1.0,
+            scintillation: false,
+            seed: 0,
+        }
+    }
+}
+
 /// The complete scene.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -150,6 +188,8 @@ pub struct Scene {
     pub moon_scale: f64,
     /// Night vision (mesopic/scotopic) in the camera stage (default true).
     pub night_vision: bool,
+    /// Stars and planets.
+    pub stars: StarParams,
     /// Ordered dithering of 8-bit output (default true).
     pub dither: bool,
 }
@@ -168,6 +208,7 @@ impl Default for Scene {
             sun_scale: 1.0,
             moon_scale: 1.0,
             night_vision: true,
+            stars: StarParams::default(),
             dither: true,
         }
     }
@@ -286,6 +327,16 @@ impl Scene {
                 return Err(SceneError::new(f, format!("{v} is outside [0.01, 100]")));
             }
         }
+        let st = &self.stars;
+        for (f, v, lo, hi) in [
+            ("stars.limit_mag", st.limit_mag, -2.0, 8.0),
+            ("stars.core_px", st.core_px, 0.3, 4.0),
+            ("stars.glare", st.glare, 0.0, 10.0),
+        ] {
+            if !(v.is_finite() && (lo..=hi).contains(&v)) {
+                return Err(SceneError::new(f, format!("{v} is outside [{lo}, {hi}]")));
+            }
+        }
         Ok(())
     }
 }
@@ -342,5 +393,11 @@ mod tests {
         s.observer.lat_deg = 0.0;
         s.atmosphere.aerosol_g = 1.5;
         assert_eq!(s.validate().unwrap_err().field, "atmosphere.aerosol_g");
+        s.atmosphere.aerosol_g = 0.8;
+        s.stars.core_px = 0.1;
+        assert_eq!(s.validate().unwrap_err().field, "stars.core_px");
+        s.stars.core_px = 0.7;
+        s.stars.limit_mag = f64::NAN;
+        assert_eq!(s.validate().unwrap_err().field, "stars.limit_mag");
     }
 }

@@ -81,6 +81,8 @@ pub struct SkyState {
     pub moon: MoonState,
     /// ENU unit vector towards the celestial north pole.
     pub celestial_pole: [f64; 3],
+    /// Star frame, planets and scintillation (`crate::night`).
+    pub night: crate::night::NightSky,
     /// Every effect in back-to-front order, with its plan.
     pub passes: Vec<PlannedPass>,
 }
@@ -153,8 +155,14 @@ impl SkyState {
             visible_fraction,
             ..sun
         };
+        let night =
+            crate::night::NightSky::new(scene, &sky, &observer).map_err(|e| SceneError {
+                field: "time.utc".into(),
+                message: e.to_string(),
+            })?;
         let mut passes = plan(scene, &sun);
         crate::moon::plan_moon(&mut passes, scene, &moon);
+        night.refine_plan(&mut passes);
         let lat = o.lat_deg.to_radians();
         Ok(SkyState {
             utc,
@@ -164,6 +172,7 @@ impl SkyState {
             sun,
             moon,
             celestial_pole: [0.0, lat.cos(), lat.sin()],
+            night,
             passes,
         })
     }

@@ -36,7 +36,7 @@ fn sun_state_at_perihelion_noon() {
 fn pass_plan_reasons() {
     let st = SkyState::at(&scene(
         "2024-01-03T23:00:00Z",
-        vec![Effect::Sun, Effect::Atmosphere, Effect::Stars],
+        vec![Effect::Sun, Effect::Atmosphere, Effect::Clouds],
     ))
     .unwrap();
     let reason = |e: Effect| {
@@ -52,7 +52,7 @@ fn pass_plan_reasons() {
         Some("the Sun's disk is below the horizon")
     );
     assert_eq!(reason(Effect::Atmosphere), None);
-    assert!(reason(Effect::Stars)
+    assert!(reason(Effect::Clouds)
         .unwrap()
         .starts_with("not available yet"));
     assert_eq!(reason(Effect::Moon).as_deref(), Some("not requested"));
