@@ -185,6 +185,54 @@ impl CpuRenderer {
 }
 
 /// The sky-view inputs of `state`.
+/// The sky's in-scattered light for one frame: the Sun's sky view and, on
+/// a moonlit night, a second one lit from the Moon
+/// ([`himmel_skymodel::moon::moonlight_scale`]).
+#[derive(Debug, Clone)]
+pub struct SkyLight {
+    /// The sky lit by the Sun (ground below the horizon included).
+    pub sun: SkyView,
+    sun_dir: Vec3,
+    /// The sky lit by the Moon, and the Moon's ENU direction.
+    pub moon: Option<(SkyView, Vec3)>,
+}
+
+impl SkyLight {
+    /// Computes the sky light of `state` on all cores.
+    pub fn new(luts: &AtmosphereLuts, scene: &Scene, state: &SkyState) -> SkyLight {
+        let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
+        let moon = himmel_skymodel::moon::moonlight_scale(scene, &state.sun, &state.moon, pole)
+            .map(|scale| {
+                let dir = state.moon.dir().as_vec3().normalize();
+                let input = SkyViewInput {
+                    observer_altitude_km: state.observer_altitude_km as f32,
+                    sun_sin_elevation: dir.z,
+                    irradiance_scale: scale as f32,
+                };
+                (sky_view(luts, &input), dir)
+            });
+        SkyLight {
+            sun: sky_view(luts, &sky_view_input(state)),
+            sun_dir: state.sun.dir().as_vec3().normalize(),
+            moon,
+        }
+    }
+
+    /// Sky radiance (linear sRGB, cd/m²) towards ENU `dir` (unit); the
+    /// ground's luminance below the horizon.
+    #[inline]
+    pub fn radiance(&self, dir: Vec3) -> [f32; 3] {
+        let mut l = self.sun.radiance(dir, self.sun_dir);
+        if let Some((sv, m)) = &self.moon {
+            let k = sv.radiance(dir, *m);
+            for c in 0..3 {
+                l[c] += k[c];
+            }
+        }
+        l
+    }
+}
+
 fn sky_view_input(state: &SkyState) -> SkyViewInput {
     SkyViewInput {
         observer_altitude_km: state.observer_altitude_km as f32,
@@ -247,7 +295,7 @@ impl SkyRenderer for CpuRenderer {
                 .filter(|_| state.runs(Effect::Atmosphere));
             if let Some(l) = luts {
                 let tsv = Clock::now();
-                sv = Some(sky_view(l, &sky_view_input(state)));
+                sv = Some(SkyLight::new(l, scene, state));
                 sky_view_ms = ms(tsv);
             }
             Some(night_pass::NightFrame::prepare(
@@ -279,7 +327,7 @@ impl SkyRenderer for CpuRenderer {
                         None => {
                             let (luts, _) = self.luts(&scene.atmosphere, &scene.lut);
                             let tsv = Clock::now();
-                            let sv = sky_view(luts, &sky_view_input(state));
+                            let sv = SkyLight::new(luts, scene, state);
                             sky_view_ms = ms(tsv);
                             sv
                         }
@@ -289,7 +337,7 @@ impl SkyRenderer for CpuRenderer {
                         .zip(dirs.par_iter())
                         .for_each(|(p, d)| {
                             if let Some(d) = d {
-                                let l = sv.radiance(*d, sun_dir);
+                                let l = sv.radiance(*d);
                                 for k in 0..3 {
                                     p[k] += l[k];
                                 }

@@ -4,7 +4,9 @@
 //! milkyway, night}`).
 
 use glam::Vec3;
-use himmel_skymodel::atmosphere::{AtmosphereLuts, SkyView};
+use himmel_skymodel::atmosphere::AtmosphereLuts;
+
+use crate::SkyLight;
 use himmel_skymodel::milkyway::NightBackground;
 use himmel_skymodel::night::{cull_diffuse, cull_points, estimate_ev100, white_luminance};
 use himmel_skymodel::spectrum::luminance;
@@ -45,13 +47,12 @@ impl NightFrame {
         scene: &Scene,
         state: &SkyState,
         luts: Option<&AtmosphereLuts>,
-        sky_view: Option<&SkyView>,
+        sky_view: Option<&SkyLight>,
         dirs: &[Option<Vec3>],
     ) -> NightFrame {
         let cam = &scene.camera;
         let (w, h) = cam.image_size();
         let (w, h) = (w as usize, h as usize);
-        let sun_dir = state.sun.dir().as_vec3().normalize();
         let extinction = match luts {
             Some(l) => {
                 let r0 = l.medium.bottom + state.observer_altitude_km as f32;
@@ -61,7 +62,7 @@ impl NightFrame {
         };
         let background = NightBackground::new(state.night.star_frame.icrs_to_enu);
         let mw = state.runs(Effect::Milkyway);
-        let sky = |d: Vec3| sky_view.map_or([0.0; 3], |s| s.radiance(d, sun_dir));
+        let sky = |d: Vec3| sky_view.map_or([0.0; 3], |s| s.radiance(d));
         let night_light = |d: Vec3| {
             if !mw || d.z < 0.0 {
                 return [0.0; 3];

@@ -441,7 +441,6 @@ fn scintillation_is_deterministic_per_seed() {
 
 #[test]
 fn auto_exposure_estimate_before_rendering_matches_the_metering() {
-    use himmel_skymodel::atmosphere::SkyViewInput;
     // Noon, sunset, civil and nautical twilight, night (Munich, 21 June 2024).
     for time in [
         "2024-06-21T11:10:00Z",
@@ -464,12 +463,7 @@ fn auto_exposure_estimate_before_rendering_matches_the_metering() {
         let out = r.render(&s, &state).unwrap();
         let metered = himmel_skymodel::camera::meter_ev100(&out.image.pixels, &out.image.valid);
         let (luts, _) = r.luts(&s.atmosphere, &s.lut);
-        let input = SkyViewInput {
-            observer_altitude_km: state.observer_altitude_km as f32,
-            sun_sin_elevation: state.sun.dir().as_vec3().normalize().z,
-            irradiance_scale: state.sun.irradiance_scale as f32,
-        };
-        let sv = himmel_cpu::sky_view(luts, &input);
+        let sv = himmel_cpu::SkyLight::new(luts, &s, &state);
         let dirs = himmel_cpu::directions(&s.camera);
         let frame =
             himmel_cpu::night_pass::NightFrame::prepare(&s, &state, Some(luts), Some(&sv), &dirs);

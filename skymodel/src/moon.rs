@@ -997,6 +997,30 @@ impl MoonShader {
     pub fn luminance_at(&self, p: Vec3, z: f32) -> f32 {
         luminance(self.radiance(p, z))
     }
+
+    /// The illuminance of the whole drawn disk, lux: Σ Y(L) dΩ over an
+    /// `n` × `n` grid of the disk in the orthographic sky frame (dΩ =
+    /// (2 radius / n)²), at the line of sight of the centre. Built without
+    /// LUTs (`luts` None) it is the Moon's light outside the atmosphere —
+    /// sunlit part, earthshine and any lunar-eclipse shading included —
+    /// which is what lights the moonlit sky.
+    pub fn disk_illuminance_lux(&self, n: usize) -> f64 {
+        let n = n.max(2);
+        let mut sum = 0.0f64;
+        for j in 0..n {
+            let y = -1.0 + 2.0 * (j as f32 + 0.5) / n as f32;
+            for i in 0..n {
+                let x = -1.0 + 2.0 * (i as f32 + 0.5) / n as f32;
+                let r2 = x * x + y * y;
+                if r2 < 1.0 {
+                    let p = Vec3::new(x, y, (1.0 - r2).sqrt());
+                    sum += self.luminance_at(p, self.centre.z) as f64;
+                }
+            }
+        }
+        let cell = 2.0 * self.radius as f64 / n as f64;
+        sum * cell * cell
+    }
 }
 
 /// The Moon's state for `observer` through `sky`, and the visible fraction
@@ -1200,4 +1224,36 @@ mod eclipse_tests {
             assert!(w.to_y(&t[k]) >= w.to_y(&t[k - 1]) * 0.999, "{k}");
         }
     }
+}
+
+/// Below this refracted altitude, degrees, the Moon lights no sky worth
+/// computing (its light then reaches the observer's sky only through the
+/// twilight arch, which is below 10⁻³ of its light).
+pub const MOONLIGHT_BELOW_DEG: f64 = -6.0;
+
+/// The moonlit sky: when `scene` asks for the Moon, the Moon is above
+/// [`MOONLIGHT_BELOW_DEG`] and the Sun is below the horizon (with the Sun
+/// up, moonlight adds less than 10⁻⁵ to the sky), the irradiance scale of
+/// the Moon's light relative to the Sun's at 1 AU — the
+/// [`crate::atmosphere::SkyViewInput::irradiance_scale`] of a second sky
+/// view lit from the Moon's direction. The Moon's light is its disk's
+/// illuminance outside the atmosphere ([`MoonShader::disk_illuminance_lux`]:
+/// phase, earthshine and lunar-eclipse shading included); it is treated
+/// as sunlight of that illuminance (the Moon's reddening, +0.17 % per
+/// 100 nm in [`lunar_reflectance_spectrum`], is left out of the sky).
+pub fn moonlight_scale(
+    scene: &crate::Scene,
+    sun: &crate::state::SunState,
+    moon: &MoonState,
+    celestial_pole: Vec3,
+) -> Option<f64> {
+    if !scene.wants(crate::Effect::Moon)
+        || moon.alt_refracted_deg < MOONLIGHT_BELOW_DEG
+        || sun.alt_refracted_deg > 0.0
+    {
+        return None;
+    }
+    let shader = MoonShader::new(moon, 1.0, None, 0.0, celestial_pole, &scene.atmosphere);
+    let lux = shader.disk_illuminance_lux(48);
+    Some(lux / BandWeights::solar().solar_illuminance_lux())
 }
