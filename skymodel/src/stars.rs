@@ -432,16 +432,7 @@ pub fn splat_at(
     } else {
         lux
     };
-    let k = core_lux / sum;
-    for &(idx, wt, omega) in taps.iter() {
-        let Some(p) = idx.checked_sub(offset).and_then(|i| pixels.get_mut(i)) else {
-            continue;
-        };
-        let l = k * wt / omega;
-        p[0] += l * rgb[0];
-        p[1] += l * rgb[1];
-        p[2] += l * rgb[2];
-    }
+    deposit(pixels, offset, taps, core_lux / sum, rgb);
     let excess = lux - core_lux;
     if excess <= 0.0 {
         return lux;
@@ -479,16 +470,7 @@ pub fn splat_at(
     if gsum <= 0.0 {
         return core_lux;
     }
-    let k = excess / gsum;
-    for &(idx, wt, omega) in taps.iter() {
-        let Some(p) = idx.checked_sub(offset).and_then(|i| pixels.get_mut(i)) else {
-            continue;
-        };
-        let l = k * wt / omega;
-        p[0] += l * rgb[0];
-        p[1] += l * rgb[1];
-        p[2] += l * rgb[2];
-    }
+    deposit(pixels, offset, taps, excess / gsum, rgb);
     lux
 }
 
@@ -512,6 +494,27 @@ pub fn core_peak_luminance(cam: &Camera, dir: Vec3, lux: f32, core_px: f32) -> f
     let sigma = core_px.max(0.1);
     let w0 = (1.0 / (2.0 * std::f32::consts::PI * sigma * sigma)).min(1.0);
     lux * w0 / omega
+}
+
+/// Adds `k · weight / Ω` × `rgb` to each tap's pixel (luminance from a
+/// share of illuminance spread over taps of solid angle Ω); `offset` is
+/// the index of `pixels[0]` in the whole image (band-parallel splats).
+fn deposit(
+    pixels: &mut [[f32; 3]],
+    offset: usize,
+    taps: &[(usize, f32, f32)],
+    k: f32,
+    rgb: [f32; 3],
+) {
+    for &(idx, wt, omega) in taps {
+        let Some(p) = idx.checked_sub(offset).and_then(|i| pixels.get_mut(i)) else {
+            continue;
+        };
+        let l = k * wt / omega;
+        p[0] += l * rgb[0];
+        p[1] += l * rgb[1];
+        p[2] += l * rgb[2];
+    }
 }
 
 #[cfg(test)]
