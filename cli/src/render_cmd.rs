@@ -225,29 +225,15 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             output.display()
         ))
     })?;
-    match a.backend.trim() {
-        "cpu" => {}
-        "auto" => {
-            eprintln!("note: the wgpu backend is not built in this version; using --backend cpu")
-        }
-        "wgpu" => {
-            return Err(CliError {
-                code: 3,
-                message:
-                    "--backend wgpu: no wgpu adapter available in this build; use --backend cpu"
-                        .into(),
-            })
-        }
-        other => {
-            return Err(CliError::input(format!(
-                "--backend: unknown backend '{other}'; expected cpu, wgpu or auto"
-            )))
-        }
+    let backend = a.backend.trim();
+    if !matches!(backend, "cpu" | "wgpu" | "auto") {
+        return Err(CliError::input(format!(
+            "--backend: unknown backend '{backend}'; expected cpu, wgpu or auto"
+        )));
     }
     let scene = build_scene(a)?;
     let state = SkyState::at(&scene).map_err(scene_error)?;
-    let mut renderer = CpuRenderer::new(himmel_cpu::cache::default_dir());
-    renderer.progress = true;
+    let (mut renderer, timing) = make_renderer(backend)?;
     let out = renderer
         .render(&scene, &state)
         .map_err(|e| CliError::other(e.to_string()))?;
@@ -270,6 +256,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     if let Some(path) = &a.stats {
         let stats = json!({
             "backend": renderer.name(),
+            "timing": timing,
             "width": out.image.width,
             "height": out.image.height,
             "passes": out.passes,
@@ -296,6 +283,35 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::other(format!("--stats {}: {e}", path.display())))?;
     }
     Ok(())
+}
+
+/// The renderer for `--backend` and how it times passes (`cpu`, or
+/// `gpu-timestamps` on an adapter with timestamp queries): `wgpu` without an
+/// adapter exits 3; `auto` falls back to the CPU with a note on stderr.
+fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), CliError> {
+    let cpu = || {
+        let mut r = CpuRenderer::new(himmel_cpu::cache::default_dir());
+        r.progress = true;
+        Box::new(r) as Box<dyn SkyRenderer>
+    };
+    if backend == "cpu" {
+        return Ok((cpu(), "cpu"));
+    }
+    match himmel_wgpu::WgpuRenderer::new(himmel_cpu::cache::default_dir()) {
+        Ok(mut r) => {
+            r.set_progress(true);
+            let timing = r.timing().name();
+            Ok((Box::new(r), timing))
+        }
+        Err(e) if backend == "auto" => {
+            eprintln!("note: {e}; falling back to --backend cpu");
+            Ok((cpu(), "cpu"))
+        }
+        Err(e) => Err(CliError {
+            code: 3,
+            message: format!("--backend wgpu: {e}; use --backend cpu (or auto) instead"),
+        }),
+    }
 }
 
 /// `himmel scene-template`: prints the complete default scene.

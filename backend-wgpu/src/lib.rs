@@ -1,0 +1,752 @@
+//! `himmel-wgpu`: the GPU renderer of Himmel on wgpu, headless (Vulkan,
+//! Metal, DX12 — any adapter, software ones such as Mesa's lavapipe
+//! included).
+//!
+//! Every sky pass is a WGSL compute shader (`src/shaders/sky.wgsl`) that
+//! adds its radiance (linear sRGB, cd/m², conventions.md Photometry) into
+//! a per-pixel accumulation buffer, back to front, as the CPU reference
+//! renderer (`himmel-cpu`) does; a final `store` pass writes the frame into
+//! an `rgba32float` texture: one layer for fisheye, equirect and
+//! perspective images, six layers (+X −X +Y −Y +Z −Z, scene frame,
+//! conventions.md) for a cube map, which users can bind as a
+//! `TextureViewDimension::Cube` texture ([`WgpuRenderer::render_cubemap`]).
+//!
+//! * Atmosphere: the parameter-dependent LUTs and the per-frame sky-view
+//!   LUT (Hillaire 2020) are computed on the CPU by `himmel-cpu`
+//!   (in-memory and on-disk cache) and uploaded; the shader computes each
+//!   pixel's view direction from the projection (projection.rs in f32) and
+//!   looks the sky view up bilinearly (lut.rs `SkyView::radiance`).
+//! * Sun: the disk (limb darkening of Hestroffer & Magnan 1998, extinction
+//!   by the transmittance LUT) is tabulated on the CPU as linear sRGB over
+//!   (normalised disk radius ρ, line-of-sight zenith cosine) — the exact
+//!   `SunDisk::radiance_rgb` at the nodes — and the shader supersamples
+//!   pixels near the disk with [`himmel_cpu::SUN_SUPERSAMPLING`]² sub-pixel
+//!   directions, as the CPU does.
+//!
+//! Per-pass times come from timestamp queries where the adapter supports
+//! them (`Features::TIMESTAMP_QUERY`), otherwise from the CPU clock around
+//! each submitted and awaited pass ([`WgpuRenderer::timing`]).
+
+pub mod uniforms;
+
+use std::path::PathBuf;
+use std::time::Instant as Clock;
+
+use glam::{DVec3, Vec3};
+use himmel_cpu::CpuRenderer;
+use himmel_skymodel::atmosphere::{AtmosphereLuts, SkyViewInput};
+use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
+use himmel_skymodel::spectrum::Spectrum;
+use himmel_skymodel::sun::SunDisk;
+use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
+use wgpu::util::DeviceExt;
+
+pub use uniforms::FrameUniforms;
+use uniforms::{projection_code, SKY_WGSL};
+
+/// Nodes of the Sun table in normalised disk radius ρ.
+pub const SUN_TABLE_RHO: usize = 64;
+/// Nodes of the Sun table in line-of-sight zenith cosine.
+pub const SUN_TABLE_Z: usize = 128;
+
+/// The texture format of every render target.
+pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Why the GPU backend cannot start.
+#[derive(Debug, Clone, PartialEq)]
+pub enum WgpuError {
+    /// No adapter of the enabled backends (`WGPU_BACKEND`) exists.
+    NoAdapter(String),
+    /// The adapter refused to create a device.
+    Device(String),
+}
+
+impl std::fmt::Display for WgpuError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WgpuError::NoAdapter(m) => write!(f, "no wgpu adapter available ({m})"),
+            WgpuError::Device(m) => write!(f, "the wgpu adapter cannot create a device ({m})"),
+        }
+    }
+}
+
+impl std::error::Error for WgpuError {}
+
+impl From<WgpuError> for RenderError {
+    fn from(e: WgpuError) -> Self {
+        RenderError::Unavailable(e.to_string())
+    }
+}
+
+/// How per-pass times were measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Timing {
+    /// GPU timestamp queries around each compute pass.
+    GpuTimestamps,
+    /// CPU clock around each submitted pass, waiting for its completion.
+    Cpu,
+}
+
+impl Timing {
+    /// The `--stats` name: `gpu-timestamps` or `cpu`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Timing::GpuTimestamps => "gpu-timestamps",
+            Timing::Cpu => "cpu",
+        }
+    }
+}
+
+struct Pipelines {
+    layout: wgpu::BindGroupLayout,
+    atmosphere: wgpu::ComputePipeline,
+    sun: wgpu::ComputePipeline,
+    store: wgpu::ComputePipeline,
+}
+
+/// A frame left on the GPU: the target texture (rgba32float; 1 layer, or 6
+/// cube faces) and the frame's statistics.
+#[derive(Debug)]
+pub struct GpuFrame {
+    /// The target: `TEXTURE_BINDING | STORAGE_BINDING | COPY_SRC`, alpha 1
+    /// where the projection shows the scene. A cube map's six layers are
+    /// the faces +X −X +Y −Y +Z −Z of the scene frame (x East, y Up,
+    /// z South): bind it through a `TextureViewDimension::Cube` view.
+    pub texture: wgpu::Texture,
+    /// Image width and height (the 6H×H strip for a cube map).
+    pub width: u32,
+    /// Image height (the face size for a cube map).
+    pub height: u32,
+    /// Whether the texture holds six cube faces.
+    pub cube: bool,
+    /// Per-pass statistics, back to front.
+    pub passes: Vec<PassStat>,
+    /// LUT time (memory, disk or computation), ms.
+    pub precompute_ms: f64,
+    /// Where the LUTs came from.
+    pub lut_source: &'static str,
+    /// CPU time of the per-frame sky-view LUT, ms.
+    pub sky_view_ms: f64,
+}
+
+/// The wgpu renderer.
+pub struct WgpuRenderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    info: wgpu::AdapterInfo,
+    pipelines: Pipelines,
+    timestamps: bool,
+    /// The CPU renderer whose LUT cache (memory and disk) feeds the GPU.
+    cpu: CpuRenderer,
+}
+
+impl std::fmt::Debug for WgpuRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("WgpuRenderer")
+            .field("adapter", &self.info.name)
+            .field("backend", &self.info.backend)
+            .field("timestamps", &self.timestamps)
+            .finish()
+    }
+}
+
+fn ms(t: Clock) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+impl WgpuRenderer {
+    /// A renderer on the first adapter wgpu offers (high-performance
+    /// preference; software adapters included) among the backends that
+    /// `WGPU_BACKEND` allows (all by default), with the LUT disk cache in
+    /// `cache_dir`. Errors when no adapter or device is available.
+    pub fn new(cache_dir: Option<PathBuf>) -> Result<Self, WgpuError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|e| WgpuError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let features = if timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("himmel"),
+            required_features: features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| WgpuError::Device(e.to_string()))?;
+        let pipelines = Self::pipelines(&device);
+        Ok(WgpuRenderer {
+            device,
+            queue,
+            info,
+            pipelines,
+            timestamps,
+            cpu: CpuRenderer::new(cache_dir),
+        })
+    }
+
+    fn pipelines(device: &wgpu::Device) -> Pipelines {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("sky.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(SKY_WGSL.into()),
+        });
+        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sky"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(
+                            std::mem::size_of::<FrameUniforms>() as u64,
+                        ),
+                    },
+                    count: None,
+                },
+                storage(1, false),
+                storage(2, true),
+                storage(3, true),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: TARGET_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sky"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Pipelines {
+            atmosphere: pipeline("atmosphere"),
+            sun: pipeline("sun"),
+            store: pipeline("store"),
+            layout,
+        }
+    }
+
+    /// The device (to bind [`GpuFrame::texture`] in your own passes).
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue of [`Self::device`].
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// The adapter: name, backend, device type (`Cpu` for lavapipe).
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.info
+    }
+
+    /// How per-pass times are measured on this adapter.
+    pub fn timing(&self) -> Timing {
+        if self.timestamps {
+            Timing::GpuTimestamps
+        } else {
+            Timing::Cpu
+        }
+    }
+
+    /// Shows a progress bar during a long LUT precomputation (terminal only).
+    pub fn set_progress(&mut self, on: bool) {
+        self.cpu.progress = on;
+    }
+
+    /// Renders a cube map of the scene with faces of `face` × `face`
+    /// pixels (the scene's camera is replaced by a cube-map camera) and
+    /// leaves it on the GPU.
+    pub fn render_cubemap(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+        face: u32,
+    ) -> Result<GpuFrame, RenderError> {
+        let mut s = scene.clone();
+        s.camera = Camera {
+            projection: Projection::Cubemap,
+            width: face,
+            height: face,
+            ..s.camera
+        };
+        self.render_frame(&s, state)
+    }
+
+    /// Renders one frame into a new target texture, leaving it on the GPU.
+    pub fn render_frame(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+    ) -> Result<GpuFrame, RenderError> {
+        scene
+            .validate()
+            .map_err(|e| RenderError::Scene(e.field, e.message))?;
+        for p in state.passes.iter().filter(|p| p.run) {
+            if !matches!(p.effect, Effect::Atmosphere | Effect::Sun) {
+                return Err(RenderError::Other(format!(
+                    "the {} pass is not available in the wgpu backend of this version",
+                    p.effect.name()
+                )));
+            }
+        }
+        let cam = scene.camera;
+        let (w, h) = cam.image_size();
+        let cube = cam.projection == Projection::Cubemap;
+        let (tw, layers) = if cube { (h, 6) } else { (w, 1) };
+        let limits = self.device.limits();
+        let accum_bytes = w as u64 * h as u64 * 16;
+        if tw.max(h) > limits.max_texture_dimension_2d
+            || accum_bytes > limits.max_storage_buffer_binding_size as u64
+            || accum_bytes > limits.max_buffer_size
+        {
+            return Err(RenderError::Other(format!(
+                "a {w}×{h} image exceeds this adapter's limits ({} px per side, {} MiB per buffer)",
+                limits.max_texture_dimension_2d,
+                limits
+                    .max_storage_buffer_binding_size
+                    .min(limits.max_buffer_size as _)
+                    >> 20
+            )));
+        }
+        let sun_dir = state.sun.dir().as_vec3().normalize();
+        let atmosphere = state.runs(Effect::Atmosphere);
+
+        // The LUTs (CPU precompute or cache) and the sky view on the CPU.
+        let mut precompute_ms = 0.0;
+        let mut lut_source = "none";
+        let mut sky_view_ms = 0.0;
+        let mut sky_rgba: Vec<[f32; 4]> = vec![[0.0; 4]];
+        let (mut sky_w, mut sky_h) = (1u32, 1u32);
+        let mut ground = [0.0f32; 4];
+        if atmosphere {
+            let tp = Clock::now();
+            let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
+            precompute_ms = ms(tp);
+            lut_source = source;
+            let input = SkyViewInput {
+                observer_altitude_km: state.observer_altitude_km as f32,
+                sun_sin_elevation: sun_dir.z,
+                irradiance_scale: state.sun.irradiance_scale as f32,
+            };
+            let tsv = Clock::now();
+            let sv = himmel_cpu::sky_view(luts, &input);
+            sky_view_ms = ms(tsv);
+            sky_rgba = sv
+                .lut
+                .data
+                .iter()
+                .map(|p| [p[0], p[1], p[2], 0.0])
+                .collect();
+            sky_w = sv.lut.w as u32;
+            sky_h = sv.lut.h as u32;
+            ground = [sv.ground_rgb[0], sv.ground_rgb[1], sv.ground_rgb[2], 0.0];
+        }
+        // The drawn radius as SunDisk clamps it.
+        let radius = (state.sun.angular_radius * scene.sun_scale).clamp(1e-6, 0.5);
+        let margin = (radius + 1.5 * cam.max_pixel_angle()).min(3.0);
+        let (sun_table, z_range) = if state.runs(Effect::Sun) {
+            let luts = if atmosphere {
+                Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
+            } else {
+                None
+            };
+            sun_table(
+                sun_dir.z as f64,
+                radius,
+                state.sun.irradiance_scale,
+                luts,
+                state.observer_altitude_km as f32,
+            )
+        } else {
+            (vec![[0.0; 4]; SUN_TABLE_RHO * SUN_TABLE_Z], [0.0, 1.0])
+        };
+
+        let (f, r, u, t) = perspective_basis(&cam);
+        let code = match cam.projection {
+            Projection::Fisheye => projection_code::FISHEYE,
+            Projection::Equirect => projection_code::EQUIRECT,
+            Projection::Perspective => projection_code::PERSPECTIVE,
+            Projection::Cubemap => projection_code::CUBEMAP,
+        };
+        let frame = FrameUniforms {
+            size: [w, h, code, h],
+            persp_f: [f.x as f32, f.y as f32, f.z as f32, t as f32],
+            persp_r: [r.x as f32, r.y as f32, r.z as f32, 0.0],
+            persp_u: [u.x as f32, u.y as f32, u.z as f32, 0.0],
+            sun: [sun_dir.x, sun_dir.y, sun_dir.z, margin.cos() as f32],
+            ground,
+            disk: [
+                radius.cos() as f32,
+                radius.sin() as f32,
+                z_range[0],
+                z_range[1],
+            ],
+            tables: [sky_w, sky_h, SUN_TABLE_RHO as u32, SUN_TABLE_Z as u32],
+            opts: [himmel_cpu::SUN_SUPERSAMPLING as u32, 0, 0, 0],
+        };
+
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let dev = &self.device;
+        let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("frame"),
+            contents: bytemuck::bytes_of(&frame),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let accum = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accum"),
+            size: accum_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let sky = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sky view"),
+            contents: bytemuck::cast_slice(&sky_rgba),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let sun_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sun table"),
+            contents: bytemuck::cast_slice(&sun_table),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let texture = dev.create_texture(&wgpu::TextureDescriptor {
+            label: Some(if cube {
+                "himmel cube map"
+            } else {
+                "himmel frame"
+            }),
+            size: wgpu::Extent3d {
+                width: tw,
+                height: h,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: TARGET_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sky"),
+            layout: &self.pipelines.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: accum.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: sky.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: sun_buf.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&view),
+                },
+            ],
+        });
+        let groups = (w.div_ceil(8), h.div_ceil(8));
+
+        // Passes back to front, then `store`; each submitted and awaited
+        // so that the CPU clock times it when there are no timestamps.
+        let mut runs: Vec<(String, &wgpu::ComputePipeline)> = Vec::new();
+        let mut stats = Vec::new();
+        for planned in &state.passes {
+            if planned.run {
+                let p = match planned.effect {
+                    Effect::Atmosphere => &self.pipelines.atmosphere,
+                    _ => &self.pipelines.sun,
+                };
+                runs.push((planned.effect.name().into(), p));
+            }
+            stats.push(PassStat {
+                name: planned.effect.name().into(),
+                ran: planned.run,
+                ms: None,
+                reason: planned.reason.clone(),
+            });
+        }
+        runs.push(("store".into(), &self.pipelines.store));
+        let queries = self.timestamps.then(|| {
+            dev.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass times"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * runs.len() as u32,
+            })
+        });
+        let mut enc = dev.create_command_encoder(&Default::default());
+        enc.clear_buffer(&accum, 0, None);
+        self.queue.submit([enc.finish()]);
+        let mut cpu_ms = Vec::new();
+        for (k, (name, pipeline)) in runs.iter().enumerate() {
+            let t0 = Clock::now();
+            let mut enc = dev.create_command_encoder(&Default::default());
+            {
+                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                    label: Some(name),
+                    timestamp_writes: queries.as_ref().map(|q| wgpu::ComputePassTimestampWrites {
+                        query_set: q,
+                        beginning_of_pass_write_index: Some(2 * k as u32),
+                        end_of_pass_write_index: Some(2 * k as u32 + 1),
+                    }),
+                });
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, &bind, &[]);
+                pass.dispatch_workgroups(groups.0, groups.1, 1);
+            }
+            self.queue.submit([enc.finish()]);
+            self.wait()?;
+            cpu_ms.push(ms(t0));
+        }
+        let gpu_ms = match &queries {
+            Some(q) => Some(self.read_timestamps(q, runs.len())?),
+            None => None,
+        };
+        let times = gpu_ms.unwrap_or(cpu_ms);
+        let mut k = 0;
+        for s in stats.iter_mut().filter(|s| s.ran) {
+            s.ms = Some(times[k]);
+            k += 1;
+        }
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Other(format!("wgpu: {e}")));
+        }
+        Ok(GpuFrame {
+            texture,
+            width: w,
+            height: h,
+            cube,
+            passes: stats,
+            precompute_ms,
+            lut_source,
+            sky_view_ms,
+        })
+    }
+
+    fn wait(&self) -> Result<(), RenderError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))
+    }
+
+    /// Maps `buffer` (MAP_READ) and returns its bytes.
+    fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> {
+        let slice = buffer.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        rx.recv()
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
+        let bytes = slice
+            .get_mapped_range()
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?
+            .to_vec();
+        buffer.unmap();
+        Ok(bytes)
+    }
+
+    fn read_timestamps(&self, q: &wgpu::QuerySet, n: usize) -> Result<Vec<f64>, RenderError> {
+        let size = (2 * n * 8) as u64;
+        let resolve = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let read = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps read"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.resolve_query_set(q, 0..2 * n as u32, &resolve, 0);
+        enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, size);
+        self.queue.submit([enc.finish()]);
+        let bytes = self.map_read(&read)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+        let period = self.queue.get_timestamp_period() as f64;
+        Ok((0..n)
+            .map(|k| ticks[2 * k + 1].wrapping_sub(ticks[2 * k]) as f64 * period * 1e-6)
+            .collect())
+    }
+
+    /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H
+    /// strip): rows padded to 256 bytes on the GPU side.
+    pub fn read_back(&self, frame: &GpuFrame) -> Result<HdrImage, RenderError> {
+        let size = frame.texture.size();
+        let (tw, th, layers) = (size.width, size.height, size.depth_or_array_layers);
+        let row = tw as u64 * 16;
+        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
+        let read = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame read"),
+            size: padded * th as u64 * layers as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_buffer(
+            frame.texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &read,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded as u32),
+                    rows_per_image: Some(th),
+                },
+            },
+            size,
+        );
+        self.queue.submit([enc.finish()]);
+        let bytes = self.map_read(&read)?;
+        let texels: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+        let (w, h) = (frame.width as usize, frame.height as usize);
+        let stride = padded as usize / 16;
+        let mut pixels = vec![[0.0f32; 3]; w * h];
+        let mut valid = vec![false; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let (layer, lx) = if frame.cube { (x / h, x % h) } else { (0, x) };
+                let t = texels[(layer * th as usize + y) * stride + lx];
+                pixels[y * w + x] = [t[0], t[1], t[2]];
+                valid[y * w + x] = t[3] > 0.5;
+            }
+        }
+        Ok(HdrImage {
+            width: w,
+            height: h,
+            pixels,
+            valid,
+        })
+    }
+}
+
+/// The perspective camera's basis (ENU: forward, right, up) and
+/// tan(fov / 2), as projection.rs builds it.
+fn perspective_basis(cam: &Camera) -> (DVec3, DVec3, DVec3, f64) {
+    let (yaw, pitch) = (cam.yaw_deg.to_radians(), cam.pitch_deg.to_radians());
+    let f = himmel_skymodel::projection::enu_from_alt_az(pitch, yaw);
+    let right = DVec3::new(yaw.cos(), -yaw.sin(), 0.0);
+    let up = right.cross(f);
+    (f, right, up, (cam.fov_deg.to_radians() / 2.0).tan())
+}
+
+/// The Sun table: linear sRGB radiance (cd/m²) of a disk of angular
+/// radius `radius` (rad) carrying `irradiance_scale` × the 1 AU solar
+/// irradiance, centred at zenith cosine `centre_z`, at normalised radius
+/// ρ = i/(n−1) and line-of-sight zenith cosine z over the disk's range:
+/// each node is the exact `SunDisk::radiance_rgb` after the transmittance
+/// `luts.sun_transmittance(r0, z)` (none without the atmosphere). Returns
+/// the table (row-major, z rows of ρ) and [z_min, z_max].
+pub fn sun_table(
+    centre_z: f64,
+    radius: f64,
+    irradiance_scale: f64,
+    luts: Option<&AtmosphereLuts>,
+    observer_altitude_km: f32,
+) -> (Vec<[f32; 4]>, [f32; 2]) {
+    let alt = centre_z.clamp(-1.0, 1.0).asin();
+    let half = std::f64::consts::FRAC_PI_2;
+    let pad = radius * 0.02 + 1e-6;
+    let z0 = (alt - radius - pad).max(-half).sin();
+    let z1 = (alt + radius + pad).min(half).sin();
+    // The same disk about the zenith: ρ only enters through |d × c|.
+    let probe = SunDisk::new(Vec3::Z, radius, irradiance_scale);
+    let sr = (probe.radius as f64).sin();
+    let r0 = luts.map(|l| l.medium.bottom + observer_altitude_km);
+    let mut out = Vec::with_capacity(SUN_TABLE_RHO * SUN_TABLE_Z);
+    for j in 0..SUN_TABLE_Z {
+        let z = z0 + (z1 - z0) * j as f64 / (SUN_TABLE_Z - 1) as f64;
+        let t = match (luts, r0) {
+            (Some(l), Some(r0)) => l.sun_transmittance(r0, z as f32),
+            _ => Spectrum::ONE,
+        };
+        for i in 0..SUN_TABLE_RHO {
+            let rho = (i as f64 / (SUN_TABLE_RHO - 1) as f64).min(1.0 - 1e-6);
+            let g = (rho * sr).asin();
+            let dir = Vec3::new(g.sin() as f32, 0.0, g.cos() as f32);
+            let rgb = if probe.covers(dir) {
+                probe.radiance_rgb(dir, &t)
+            } else {
+                [0.0; 3]
+            };
+            out.push([rgb[0], rgb[1], rgb[2], 0.0]);
+        }
+    }
+    (out, [z0 as f32, z1 as f32])
+}
+
+impl SkyRenderer for WgpuRenderer {
+    fn name(&self) -> &'static str {
+        "wgpu"
+    }
+
+    fn render(&mut self, scene: &Scene, state: &SkyState) -> Result<RenderOutput, RenderError> {
+        let frame = self.render_frame(scene, state)?;
+        let image = self.read_back(&frame)?;
+        Ok(RenderOutput {
+            image,
+            passes: frame.passes,
+            precompute_ms: frame.precompute_ms,
+            lut_source: frame.lut_source,
+            geometry_ms: 0.0,
+            sky_view_ms: frame.sky_view_ms,
+        })
+    }
+}
