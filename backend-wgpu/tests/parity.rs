@@ -195,3 +195,169 @@ fn cube_map_strip_and_texture() {
     assert_eq!((img.width, img.height), (192, 32));
     assert!(img.valid.iter().all(|v| *v));
 }
+
+const SAMPLE_CUBE: &str = r#"
+@group(0) @binding(0) var cube: texture_cube<f32>;
+@group(0) @binding(1) var nearest: sampler;
+@group(0) @binding(2) var<storage, read> dirs: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read_write> out: array<vec4<f32>>;
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (gid.x < arrayLength(&dirs)) {
+        out[gid.x] = textureSampleLevel(cube, nearest, dirs[gid.x].xyz, 0.0);
+    }
+}
+"#;
+
+/// A user binds the cube map as `texture_cube<f32>` and samples it with
+/// scene-frame directions (x East, y Up, z South): the hardware's face
+/// selection returns the texel that the CPU backend renders for that
+/// direction in the conventions.md strip (face order, orientation).
+#[test]
+fn cube_texture_samples_match_the_cpu_strip() {
+    use wgpu::util::DeviceExt;
+    let face = 32u32;
+    let s = scene("2024-06-21T17:30:00Z", Projection::Cubemap, face, face);
+    let state = SkyState::at(&s).unwrap();
+    let cpu = CpuRenderer::new(None).render(&s, &state).unwrap().image;
+    // Texel centres on every face, as scene-frame directions.
+    let mut picks = Vec::new();
+    let mut dirs: Vec<[f32; 4]> = Vec::new();
+    for f in 0..6u32 {
+        for &(x, y) in &[(3u32, 5u32), (16, 16), (28, 2), (9, 30), (30, 29)] {
+            let px = (f * face + x) as f64 + 0.5;
+            let d = s.camera.pixel_to_dir(px, y as f64 + 0.5).unwrap();
+            let v = himmel_skymodel::projection::scene_from_enu(d);
+            picks.push((y * 6 * face + f * face + x) as usize);
+            dirs.push([v.x as f32, v.y as f32, v.z as f32, 0.0]);
+        }
+    }
+    let mut r = gpu();
+    let frame = r.render_cubemap(&s, &state, face).unwrap();
+    let dev = r.device();
+    let view = frame.texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::Cube),
+        ..Default::default()
+    });
+    let sampler = dev.create_sampler(&wgpu::SamplerDescriptor::default());
+    let dir_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: None,
+        contents: bytemuck::cast_slice(&dirs),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let size = (dirs.len() * 16) as u64;
+    let out = dev.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let read = dev.create_buffer(&wgpu::BufferDescriptor {
+        label: None,
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: None,
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::Cube,
+                    multisampled: false,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 1,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::NonFiltering),
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 2,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: true },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 3,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Storage { read_only: false },
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+        ],
+    });
+    let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: None,
+        layout: &layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(&view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: dir_buf.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: out.as_entire_binding(),
+            },
+        ],
+    });
+    let module = dev.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: None,
+        source: wgpu::ShaderSource::Wgsl(SAMPLE_CUBE.into()),
+    });
+    let pl = dev.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: None,
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = dev.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: None,
+        layout: Some(&pl),
+        module: &module,
+        entry_point: Some("main"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    let mut enc = dev.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+    enc.copy_buffer_to_buffer(&out, 0, &read, 0, size);
+    r.queue().submit([enc.finish()]);
+    read.slice(..).map_async(wgpu::MapMode::Read, |_| {});
+    dev.poll(wgpu::PollType::wait_indefinitely()).unwrap();
+    let bytes = read.slice(..).get_mapped_range().unwrap().to_vec();
+    let got: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+    for (k, (&i, g)) in picks.iter().zip(got).enumerate() {
+        let (yc, yg) = (luminance(cpu.pixels[i]), luminance([g[0], g[1], g[2]]));
+        assert!(
+            (yg / yc - 1.0).abs() < 0.01 && g[3] == 1.0,
+            "face {} pick {k}: GPU cube sample {yg} vs CPU strip {yc}",
+            k / 5
+        );
+    }
+}
