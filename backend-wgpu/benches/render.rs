@@ -2,10 +2,12 @@
 //! same run (issue 7 acceptance figures), atmosphere + Sun, fisheye, LUTs
 //! in memory (after precompute):
 //!
-//! * `wgpu/frame_*` — one frame left on the GPU (CPU sky view + upload +
-//!   compute passes + store), no read-back;
-//! * `wgpu/frame_readback_*` — the same plus the copy back into an `HdrImage`;
-//! * `cpu/frame_*` — the CPU renderer, all cores.
+//! * `wgpu_frame` — one frame left on the GPU (sky-view LUT in a compute
+//!   shader, atmosphere, Sun, store), no read-back;
+//! * `wgpu_frame_cpu_sky_view` — the same with the sky view computed on the
+//!   CPU and uploaded;
+//! * `wgpu_frame_readback` — `wgpu_frame` plus the copy back into an `HdrImage`;
+//! * `cpu_frame` — the CPU renderer, all cores.
 //!
 //! `cargo bench -p himmel-wgpu --bench render` (on lavapipe without a GPU).
 
@@ -51,6 +53,11 @@ fn benches(c: &mut Criterion) {
         g.bench_function("wgpu_frame", |b| {
             b.iter(|| gpu.render_frame(&s, &state).unwrap())
         });
+        gpu.set_sky_view_on_gpu(false);
+        g.bench_function("wgpu_frame_cpu_sky_view", |b| {
+            b.iter(|| gpu.render_frame(&s, &state).unwrap())
+        });
+        gpu.set_sky_view_on_gpu(true);
         g.bench_function("wgpu_frame_readback", |b| {
             b.iter(|| gpu.render(&s, &state).unwrap())
         });
@@ -64,7 +71,7 @@ fn benches(c: &mut Criterion) {
                 p.ms.unwrap_or(0.0)
             );
         }
-        eprintln!("{w}x{h} wgpu sky view (CPU): {:.2} ms", out.sky_view_ms);
+        eprintln!("{w}x{h} wgpu sky view (GPU): {:.2} ms", out.sky_view_ms);
     }
 }
 

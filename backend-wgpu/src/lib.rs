@@ -41,8 +41,8 @@ use himmel_skymodel::sun::SunDisk;
 use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
-pub use uniforms::FrameUniforms;
-use uniforms::{projection_code, SKY_WGSL};
+use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
+pub use uniforms::{AtmosphereUniforms, FrameUniforms};
 
 /// Nodes of the Sun table in normalised disk radius ρ.
 pub const SUN_TABLE_RHO: usize = 64;
@@ -138,6 +138,25 @@ pub struct WgpuRenderer {
     timestamps: bool,
     /// The CPU renderer whose LUT cache (memory and disk) feeds the GPU.
     cpu: CpuRenderer,
+    skyview: SkyViewPipelines,
+    gpu_luts: Option<GpuLuts>,
+    sky_view_on_gpu: bool,
+}
+
+struct SkyViewPipelines {
+    layout: wgpu::BindGroupLayout,
+    sky_view: wgpu::ComputePipeline,
+    ground: wgpu::ComputePipeline,
+}
+
+/// The parameter-dependent LUTs on the GPU (three vec4 band groups per
+/// texel), for the parameters they were uploaded for.
+struct GpuLuts {
+    params: himmel_skymodel::atmosphere::AtmosphereParams,
+    config: himmel_skymodel::atmosphere::LutConfig,
+    trans: wgpu::Buffer,
+    trans_s: wgpu::Buffer,
+    multi: wgpu::Buffer,
 }
 
 impl std::fmt::Debug for WgpuRenderer {
@@ -184,6 +203,7 @@ impl WgpuRenderer {
         }))
         .map_err(|e| WgpuError::Device(e.to_string()))?;
         let pipelines = Self::pipelines(&device);
+        let skyview = skyview_pipelines(&device);
         Ok(WgpuRenderer {
             device,
             queue,
@@ -191,6 +211,9 @@ impl WgpuRenderer {
             pipelines,
             timestamps,
             cpu: CpuRenderer::new(cache_dir),
+            skyview,
+            gpu_luts: None,
+            sky_view_on_gpu: true,
         })
     }
 
@@ -286,6 +309,17 @@ impl WgpuRenderer {
         }
     }
 
+    /// Computes the per-frame sky-view LUT in a compute shader (`true`,
+    /// the default) or on the CPU (uploaded each frame).
+    pub fn set_sky_view_on_gpu(&mut self, on: bool) {
+        self.sky_view_on_gpu = on;
+    }
+
+    /// Whether the sky-view LUT is computed on the GPU.
+    pub fn sky_view_on_gpu(&self) -> bool {
+        self.sky_view_on_gpu
+    }
+
     /// Shows a progress bar during a long LUT precomputation (terminal only).
     pub fn set_progress(&mut self, on: bool) {
         self.cpu.progress = on;
@@ -349,36 +383,71 @@ impl WgpuRenderer {
         let sun_dir = state.sun.dir().as_vec3().normalize();
         let atmosphere = state.runs(Effect::Atmosphere);
 
-        // The LUTs (CPU precompute or cache) and the sky view on the CPU.
+        // The LUTs (CPU precompute or cache); the sky view on the GPU
+        // (default) or on the CPU, uploaded. `sky` holds the sky-view LUT,
+        // then the ground luminance.
         let mut precompute_ms = 0.0;
         let mut lut_source = "none";
         let mut sky_view_ms = 0.0;
-        let mut sky_rgba: Vec<[f32; 4]> = vec![[0.0; 4]];
         let (mut sky_w, mut sky_h) = (1u32, 1u32);
-        let mut ground = [0.0f32; 4];
+        let mut sky = None;
         if atmosphere {
             let tp = Clock::now();
             let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
-            precompute_ms = ms(tp);
             lut_source = source;
             let input = SkyViewInput {
                 observer_altitude_km: state.observer_altitude_km as f32,
                 sun_sin_elevation: sun_dir.z,
                 irradiance_scale: state.sun.irradiance_scale as f32,
             };
-            let tsv = Clock::now();
-            let sv = himmel_cpu::sky_view(luts, &input);
-            sky_view_ms = ms(tsv);
-            sky_rgba = sv
-                .lut
-                .data
-                .iter()
-                .map(|p| [p[0], p[1], p[2], 0.0])
-                .collect();
-            sky_w = sv.lut.w as u32;
-            sky_h = sv.lut.h as u32;
-            ground = [sv.ground_rgb[0], sv.ground_rgb[1], sv.ground_rgb[2], 0.0];
+            sky_w = luts.config.sky_view_w as u32;
+            sky_h = luts.config.sky_view_h as u32;
+            if self.sky_view_on_gpu {
+                let gl = upload_luts(&self.device, &mut self.gpu_luts, luts);
+                precompute_ms = ms(tp);
+                let tsv = Clock::now();
+                sky = Some(gpu_sky_view(
+                    &self.device,
+                    &self.queue,
+                    &self.skyview,
+                    gl,
+                    luts,
+                    &input,
+                )?);
+                sky_view_ms = ms(tsv);
+            } else {
+                precompute_ms = ms(tp);
+                let tsv = Clock::now();
+                let sv = himmel_cpu::sky_view(luts, &input);
+                let mut rgba: Vec<[f32; 4]> = sv
+                    .lut
+                    .data
+                    .iter()
+                    .map(|p| [p[0], p[1], p[2], 0.0])
+                    .collect();
+                let g = sv.ground_rgb;
+                rgba.push([g[0], g[1], g[2], 0.0]);
+                sky = Some(
+                    self.device
+                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                            label: Some("sky view"),
+                            contents: bytemuck::cast_slice(&rgba),
+                            usage: wgpu::BufferUsages::STORAGE,
+                        }),
+                );
+                sky_view_ms = ms(tsv);
+            }
         }
+        let sky = match sky {
+            Some(b) => b,
+            None => self
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("no sky"),
+                    contents: bytemuck::cast_slice(&[[0.0f32; 4]; 2]),
+                    usage: wgpu::BufferUsages::STORAGE,
+                }),
+        };
         // The drawn radius as SunDisk clamps it.
         let radius = (state.sun.angular_radius * scene.sun_scale).clamp(1e-6, 0.5);
         let margin = (radius + 1.5 * cam.max_pixel_angle()).min(3.0);
@@ -412,7 +481,6 @@ impl WgpuRenderer {
             persp_r: [r.x as f32, r.y as f32, r.z as f32, 0.0],
             persp_u: [u.x as f32, u.y as f32, u.z as f32, 0.0],
             sun: [sun_dir.x, sun_dir.y, sun_dir.z, margin.cos() as f32],
-            ground,
             disk: [
                 radius.cos() as f32,
                 radius.sin() as f32,
@@ -435,11 +503,6 @@ impl WgpuRenderer {
             size: accum_bytes,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
-        });
-        let sky = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("sky view"),
-            contents: bytemuck::cast_slice(&sky_rgba),
-            usage: wgpu::BufferUsages::STORAGE,
         });
         let sun_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("sun table"),
@@ -675,6 +738,226 @@ impl WgpuRenderer {
             valid,
         })
     }
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn skyview_pipelines(device: &wgpu::Device) -> SkyViewPipelines {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("skyview.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(SKYVIEW_WGSL.into()),
+    });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sky view"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: wgpu::BufferSize::new(
+                        std::mem::size_of::<AtmosphereUniforms>() as u64,
+                    ),
+                },
+                count: None,
+            },
+            storage_entry(1, true),
+            storage_entry(2, true),
+            storage_entry(3, true),
+            storage_entry(4, false),
+        ],
+    });
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("sky view"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = |entry: &str| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    };
+    SkyViewPipelines {
+        sky_view: pipeline("sky_view"),
+        ground: pipeline("ground"),
+        layout,
+    }
+}
+
+/// A spectrum as three vec4 band groups (the last two lanes zero).
+fn band_groups(s: &Spectrum) -> [[f32; 4]; 3] {
+    let mut g = [[0.0f32; 4]; 3];
+    for (b, v) in s.0.iter().enumerate() {
+        g[b / 4][b % 4] = *v;
+    }
+    g
+}
+
+fn lut_groups(l: &himmel_skymodel::atmosphere::lut::Lut2<Spectrum>) -> Vec<[f32; 4]> {
+    l.data.iter().flat_map(band_groups).collect()
+}
+
+/// Uploads the parameter-dependent LUTs unless they are already on the GPU.
+fn upload_luts<'a>(
+    device: &wgpu::Device,
+    slot: &'a mut Option<GpuLuts>,
+    luts: &AtmosphereLuts,
+) -> &'a GpuLuts {
+    if let Some(g) = slot.take() {
+        if g.params == luts.params && g.config == luts.config {
+            return slot.insert(g);
+        }
+    }
+    let buf = |label, l| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(&lut_groups(l)),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    slot.insert(GpuLuts {
+        params: luts.params.clone(),
+        config: luts.config,
+        trans: buf("transmittance", &luts.transmittance),
+        trans_s: buf("scattering transmittance", &luts.scattering_transmittance),
+        multi: buf("multiple scattering", &luts.multiscatter),
+    })
+}
+
+/// The uniforms of the GPU sky view (lut.rs `SkyView::row` inputs).
+pub fn atmosphere_uniforms(luts: &AtmosphereLuts, input: &SkyViewInput) -> AtmosphereUniforms {
+    let m = &luts.medium;
+    let cfg = &luts.config;
+    let weights = himmel_skymodel::spectrum::BandWeights::solar();
+    let mut w = [[[0.0f32; 4]; 3]; 3];
+    for (b, rgb) in weights.rgb.iter().enumerate() {
+        for c in 0..3 {
+            w[c][b / 4][b % 4] = rgb[c];
+        }
+    }
+    let r0 = m.bottom
+        + input
+            .observer_altitude_km
+            .clamp(0.0, m.top - m.bottom - 0.01);
+    let sun = himmel_skymodel::atmosphere::SkyView::sun_local(input.sun_sin_elevation);
+    AtmosphereUniforms {
+        rayleigh: band_groups(&m.rayleigh),
+        mie_scattering: band_groups(&m.mie_scattering),
+        mie_extinction: band_groups(&m.mie_extinction),
+        ozone: band_groups(&m.ozone),
+        forward: band_groups(&luts.forward),
+        w_r: w[0],
+        w_g: w[1],
+        w_b: w[2],
+        s0: [m.bottom, m.top, m.inv_h_r, m.inv_h_m],
+        s1: [m.ozone_peak, m.inv_ozone_w, m.g, m.albedo],
+        s2: [
+            m.sun_angular_radius,
+            r0,
+            cfg.forward_peak_deg.to_radians().cos(),
+            if cfg.forward_peak_deg > 0.0 { 1.0 } else { 0.0 },
+        ],
+        sun: [sun.x, sun.y, sun.z, input.irradiance_scale],
+        dims: [
+            luts.transmittance.w as u32,
+            luts.transmittance.h as u32,
+            luts.multiscatter.w as u32,
+            cfg.sky_view_steps as u32,
+        ],
+        dims2: [cfg.sky_view_w as u32, cfg.sky_view_h as u32, 0, 0],
+    }
+}
+
+/// Computes the sky-view LUT and the ground luminance on the GPU; returns
+/// the buffer (w × h texels, then the ground), after completion.
+fn gpu_sky_view(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    p: &SkyViewPipelines,
+    gl: &GpuLuts,
+    luts: &AtmosphereLuts,
+    input: &SkyViewInput,
+) -> Result<wgpu::Buffer, RenderError> {
+    let u = atmosphere_uniforms(luts, input);
+    let (w, h) = (u.dims2[0], u.dims2[1]);
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("atmosphere"),
+        contents: bytemuck::bytes_of(&u),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let sky = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sky view"),
+        size: (w as u64 * h as u64 + 1) * 16,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sky view"),
+        layout: &p.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: gl.trans.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: gl.trans_s.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: gl.multi.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: sky.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sky view"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&p.sky_view);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("ground"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&p.ground);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+    queue.submit([enc.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
+    Ok(sky)
 }
 
 /// The perspective camera's basis (ENU: forward, right, up) and

@@ -17,7 +17,7 @@ pub mod projection_code {
 }
 
 /// Mirror of WGSL `struct Frame` (src/shaders/sky.wgsl): per-frame
-/// camera, Sun and table parameters. 144 bytes.
+/// camera, Sun and table parameters. 128 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -32,8 +32,6 @@ pub struct FrameUniforms {
     pub persp_u: [f32; 4],
     /// Sun centre direction (ENU, unit); w = cos of the supersampling margin.
     pub sun: [f32; 4],
-    /// Ground luminance below the horizon, linear sRGB cd/m².
-    pub ground: [f32; 4],
     /// cos(disk radius), sin(disk radius), z_min, z_max of the Sun table.
     pub disk: [f32; 4],
     /// Sky-view LUT width, height; Sun table ρ nodes, z nodes.
@@ -42,8 +40,48 @@ pub struct FrameUniforms {
     pub opts: [u32; 4],
 }
 
-/// The WGSL source of all passes.
+/// Mirror of WGSL `struct Atmo` (src/shaders/skyview.wgsl): the medium,
+/// band weights and sky-view geometry of the GPU sky-view LUT. Spectra
+/// (10 bands) are three vec4 band groups, the last two lanes zero. 480 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct AtmosphereUniforms {
+    /// Rayleigh scattering at sea level, km⁻¹.
+    pub rayleigh: [[f32; 4]; 3],
+    /// Aerosol scattering at sea level, km⁻¹.
+    pub mie_scattering: [[f32; 4]; 3],
+    /// Aerosol extinction at sea level, km⁻¹.
+    pub mie_extinction: [[f32; 4]; 3],
+    /// Ozone absorption at the peak, km⁻¹.
+    pub ozone: [[f32; 4]; 3],
+    /// δ-scaled forward scattering f·σ_M, km⁻¹.
+    pub forward: [[f32; 4]; 3],
+    /// Band → linear sRGB red weights, lux.
+    pub w_r: [[f32; 4]; 3],
+    /// Band → green weights, lux.
+    pub w_g: [[f32; 4]; 3],
+    /// Band → blue weights, lux.
+    pub w_b: [[f32; 4]; 3],
+    /// Ground radius, top radius (km), 1/H_R, 1/H_M (km⁻¹).
+    pub s0: [f32; 4],
+    /// Ozone peak altitude (km), 1/ozone half width (km⁻¹), g, albedo.
+    pub s1: [f32; 4],
+    /// Sun angular radius (rad), observer radius r0 (km), cos of the
+    /// forward peak, 1 when the forward peak is on.
+    pub s2: [f32; 4],
+    /// Local Sun direction (x, 0, z); irradiance scale.
+    pub sun: [f32; 4],
+    /// Transmittance LUT w, h; multiple-scattering LUT n; march steps.
+    pub dims: [u32; 4],
+    /// Sky-view LUT w, h; reserved.
+    pub dims2: [u32; 4],
+}
+
+/// The WGSL source of the image passes.
 pub const SKY_WGSL: &str = include_str!("shaders/sky.wgsl");
+
+/// The WGSL source of the sky-view LUT passes.
+pub const SKYVIEW_WGSL: &str = include_str!("shaders/skyview.wgsl");
 
 #[cfg(test)]
 mod tests {
@@ -54,7 +92,7 @@ mod tests {
     /// computes for the WGSL `Frame` (uniform address space rules).
     #[test]
     fn frame_uniforms_mirror_the_wgsl_struct() {
-        assert_eq!(size_of::<FrameUniforms>(), 144);
+        assert_eq!(size_of::<FrameUniforms>(), 128);
         assert_eq!(align_of::<FrameUniforms>(), 4);
         let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
         let mut layouter = naga::proc::Layouter::default();
@@ -75,10 +113,56 @@ mod tests {
             ("persp_r", offset_of!(FrameUniforms, persp_r)),
             ("persp_u", offset_of!(FrameUniforms, persp_u)),
             ("sun", offset_of!(FrameUniforms, sun)),
-            ("ground", offset_of!(FrameUniforms, ground)),
             ("disk", offset_of!(FrameUniforms, disk)),
             ("tables", offset_of!(FrameUniforms, tables)),
             ("opts", offset_of!(FrameUniforms, opts)),
+        ];
+        assert_eq!(members.len(), rust.len());
+        for (m, (name, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(name));
+            assert_eq!(m.offset as usize, off, "{name}");
+        }
+    }
+
+    #[test]
+    fn atmosphere_uniforms_mirror_the_wgsl_struct() {
+        assert_eq!(size_of::<AtmosphereUniforms>(), 480);
+        let module = naga::front::wgsl::parse_str(SKYVIEW_WGSL).expect("skyview.wgsl parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Atmo"))
+            .expect("struct Atmo");
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("Atmo is not a struct");
+        };
+        assert_eq!(
+            layouter[handle].size as usize,
+            size_of::<AtmosphereUniforms>()
+        );
+        let rust = [
+            ("rayleigh", offset_of!(AtmosphereUniforms, rayleigh)),
+            (
+                "mie_scattering",
+                offset_of!(AtmosphereUniforms, mie_scattering),
+            ),
+            (
+                "mie_extinction",
+                offset_of!(AtmosphereUniforms, mie_extinction),
+            ),
+            ("ozone", offset_of!(AtmosphereUniforms, ozone)),
+            ("forward", offset_of!(AtmosphereUniforms, forward)),
+            ("w_r", offset_of!(AtmosphereUniforms, w_r)),
+            ("w_g", offset_of!(AtmosphereUniforms, w_g)),
+            ("w_b", offset_of!(AtmosphereUniforms, w_b)),
+            ("s0", offset_of!(AtmosphereUniforms, s0)),
+            ("s1", offset_of!(AtmosphereUniforms, s1)),
+            ("s2", offset_of!(AtmosphereUniforms, s2)),
+            ("sun", offset_of!(AtmosphereUniforms, sun)),
+            ("dims", offset_of!(AtmosphereUniforms, dims)),
+            ("dims2", offset_of!(AtmosphereUniforms, dims2)),
         ];
         assert_eq!(members.len(), rust.len());
         for (m, (name, off)) in members.iter().zip(rust) {

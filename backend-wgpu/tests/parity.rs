@@ -86,33 +86,50 @@ fn psnr(cpu: &HdrImage, gpu: &HdrImage) -> f64 {
     10.0 * (255.0f64 * 255.0 / (se / n as f64)).log10()
 }
 
-/// Renders `s` through both backends, checks the parity figures and
-/// returns the two images.
+/// Renders `s` through both backends (the wgpu one with its sky view on
+/// the GPU and, uploaded, from the CPU), checks the parity figures and
+/// returns the CPU image and the GPU-sky-view image.
 fn parity(name: &str, s: &Scene) -> (HdrImage, HdrImage) {
     let state = SkyState::at(s).unwrap();
     let cpu = CpuRenderer::new(None).render(s, &state).unwrap();
-    let gpu_out = gpu().render(s, &state).unwrap();
-    let (c, g) = (cpu.image, gpu_out.image);
-    assert_eq!((c.width, c.height), (g.width, g.height));
-    assert_eq!(c.valid, g.valid, "{name}: valid masks differ");
-    let d = rel_diffs(&c, &g);
-    let (med, p99) = (percentile(&d, 0.5), percentile(&d, 0.99));
-    let db = psnr(&c, &g);
-    eprintln!(
-        "{name}: Sun alt {:.2}°, median |ΔY|/Y {:.4} %, p99 {:.4} %, max {:.3} %, PSNR {db:.1} dB",
-        state.sun.alt_refracted_deg,
-        med * 100.0,
-        p99 * 100.0,
-        d[d.len() - 1] * 100.0
-    );
-    assert!(med <= 0.02, "{name}: median {med}");
-    assert!(p99 <= 0.10, "{name}: p99 {p99}");
-    assert!(db >= 35.0, "{name}: PSNR {db} dB");
-    // The passes that ran have times.
-    for p in gpu_out.passes.iter().filter(|p| p.ran) {
-        assert!(p.ms.is_some_and(|t| t >= 0.0), "{name}: {}", p.name);
+    let c = cpu.image;
+    let mut first = None;
+    for on_gpu in [false, true] {
+        let gpu_out = {
+            let mut r = gpu();
+            r.set_sky_view_on_gpu(on_gpu);
+            let out = r.render(s, &state);
+            r.set_sky_view_on_gpu(true);
+            out.unwrap()
+        };
+        let g = gpu_out.image;
+        let mode = if on_gpu {
+            "GPU sky view"
+        } else {
+            "CPU sky view"
+        };
+        assert_eq!((c.width, c.height), (g.width, g.height));
+        assert_eq!(c.valid, g.valid, "{name}: valid masks differ");
+        let d = rel_diffs(&c, &g);
+        let (med, p99) = (percentile(&d, 0.5), percentile(&d, 0.99));
+        let db = psnr(&c, &g);
+        eprintln!(
+            "{name} ({mode}): Sun alt {:.2}°, median |ΔY|/Y {:.4} %, p99 {:.4} %, max {:.3} %, PSNR {db:.1} dB",
+            state.sun.alt_refracted_deg,
+            med * 100.0,
+            p99 * 100.0,
+            d[d.len() - 1] * 100.0
+        );
+        assert!(med <= 0.02, "{name} ({mode}): median {med}");
+        assert!(p99 <= 0.10, "{name} ({mode}): p99 {p99}");
+        assert!(db >= 35.0, "{name} ({mode}): PSNR {db} dB");
+        // The passes that ran have times.
+        for p in gpu_out.passes.iter().filter(|p| p.ran) {
+            assert!(p.ms.is_some_and(|t| t >= 0.0), "{name}: {}", p.name);
+        }
+        first = Some(g);
     }
-    (c, g)
+    (c, first.unwrap())
 }
 
 /// Σ luminance over the pixels within `r` px of the Sun's place.

@@ -20,8 +20,6 @@ struct Frame {
     persp_u: vec4<f32>,
     // Sun centre (ENU unit), w: cos of the supersampling margin
     sun: vec4<f32>,
-    // ground luminance (linear sRGB cd/m²) below the horizon
-    ground: vec4<f32>,
     // disk: cos(radius), sin(radius), z_min, z_max of the Sun table
     disk: vec4<f32>,
     // sky-view LUT width, height; Sun table ρ nodes, z nodes
@@ -32,6 +30,7 @@ struct Frame {
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read_write> accum: array<vec4<f32>>;
+// the sky-view LUT (w × h texels), then the ground luminance below the horizon
 @group(0) @binding(2) var<storage, read> sky: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> sun_table: array<vec4<f32>>;
 @group(0) @binding(4) var target_tex: texture_storage_2d_array<rgba32float, write>;
@@ -128,7 +127,7 @@ fn sky_sample(u: f32, v: f32) -> vec3<f32> {
 // horizon.
 fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
     if (dir.z < 0.0) {
-        return frame.ground.xyz;
+        return sky[frame.tables.x * frame.tables.y].xyz;
     }
     let sun = frame.sun.xyz;
     let e = asin(min(dir.z, 1.0));
