@@ -368,7 +368,7 @@ impl WgpuRenderer {
         let limits = self.device.limits();
         let accum_bytes = w as u64 * h as u64 * 16;
         if tw.max(h) > limits.max_texture_dimension_2d
-            || accum_bytes > limits.max_storage_buffer_binding_size as u64
+            || accum_bytes > limits.max_storage_buffer_binding_size
             || accum_bytes > limits.max_buffer_size
         {
             return Err(RenderError::Other(format!(
@@ -376,7 +376,7 @@ impl WgpuRenderer {
                 limits.max_texture_dimension_2d,
                 limits
                     .max_storage_buffer_binding_size
-                    .min(limits.max_buffer_size as _)
+                    .min(limits.max_buffer_size)
                     >> 20
             )));
         }
@@ -617,10 +617,8 @@ impl WgpuRenderer {
             None => None,
         };
         let times = gpu_ms.unwrap_or(cpu_ms);
-        let mut k = 0;
-        for s in stats.iter_mut().filter(|s| s.ran) {
-            s.ms = Some(times[k]);
-            k += 1;
+        for (s, t) in stats.iter_mut().filter(|s| s.ran).zip(&times) {
+            s.ms = Some(*t);
         }
         if let Some(e) = pollster::block_on(scope.pop()) {
             return Err(RenderError::Other(format!("wgpu: {e}")));
