@@ -468,6 +468,7 @@ impl WgpuRenderer {
             (vec![[0.0; 4]; SUN_TABLE_RHO * SUN_TABLE_Z], [0.0, 1.0])
         };
 
+        let sun_rect = sun_rect(&cam, state.sun.dir().normalize(), margin);
         let (f, r, u, t) = perspective_basis(&cam);
         let code = match cam.projection {
             Projection::Fisheye => projection_code::FISHEYE,
@@ -488,7 +489,12 @@ impl WgpuRenderer {
                 z_range[1],
             ],
             tables: [sky_w, sky_h, SUN_TABLE_RHO as u32, SUN_TABLE_Z as u32],
-            opts: [himmel_cpu::SUN_SUPERSAMPLING as u32, 0, 0, 0],
+            opts: [
+                himmel_cpu::SUN_SUPERSAMPLING as u32,
+                sun_rect.0,
+                sun_rect.1,
+                0,
+            ],
         };
 
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -563,15 +569,21 @@ impl WgpuRenderer {
 
         // Passes back to front, then `store`; each submitted and awaited
         // so that the CPU clock times it when there are no timestamps.
-        let mut runs: Vec<(String, &wgpu::ComputePipeline)> = Vec::new();
+        let mut runs: Vec<(String, &wgpu::ComputePipeline, (u32, u32))> = Vec::new();
         let mut stats = Vec::new();
         for planned in &state.passes {
             if planned.run {
-                let p = match planned.effect {
-                    Effect::Atmosphere => &self.pipelines.atmosphere,
-                    _ => &self.pipelines.sun,
+                let (p, g) = match planned.effect {
+                    Effect::Atmosphere => (&self.pipelines.atmosphere, groups),
+                    _ => (
+                        &self.pipelines.sun,
+                        (
+                            (sun_rect.2 - sun_rect.0).div_ceil(8),
+                            (sun_rect.3 - sun_rect.1).div_ceil(8),
+                        ),
+                    ),
                 };
-                runs.push((planned.effect.name().into(), p));
+                runs.push((planned.effect.name().into(), p, g));
             }
             stats.push(PassStat {
                 name: planned.effect.name().into(),
@@ -580,7 +592,7 @@ impl WgpuRenderer {
                 reason: planned.reason.clone(),
             });
         }
-        runs.push(("store".into(), &self.pipelines.store));
+        runs.push(("store".into(), &self.pipelines.store, groups));
         let queries = self.timestamps.then(|| {
             dev.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass times"),
@@ -592,7 +604,7 @@ impl WgpuRenderer {
         enc.clear_buffer(&accum, 0, None);
         self.queue.submit([enc.finish()]);
         let mut cpu_ms = Vec::new();
-        for (k, (name, pipeline)) in runs.iter().enumerate() {
+        for (k, (name, pipeline, g)) in runs.iter().enumerate() {
             let t0 = Clock::now();
             let mut enc = dev.create_command_encoder(&Default::default());
             {
@@ -606,7 +618,7 @@ impl WgpuRenderer {
                 });
                 pass.set_pipeline(pipeline);
                 pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(groups.0, groups.1, 1);
+                pass.dispatch_workgroups(g.0, g.1, 1);
             }
             self.queue.submit([enc.finish()]);
             self.wait()?;
@@ -958,6 +970,68 @@ fn gpu_sky_view(
     Ok(sky)
 }
 
+/// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose
+/// centre lies within `margin` (rad) of the Sun's direction `sun` (ENU,
+/// unit): the bounding box of 64 directions on the margin's circle (and
+/// the centre) through `Camera::dir_to_pixel`, padded by 2 px; the whole
+/// image for cube maps, wide margins, circles through a pole of an
+/// equirect image or across its 0°/360° seam, and directions a perspective
+/// camera cannot project.
+pub fn sun_rect(cam: &Camera, sun: DVec3, margin: f64) -> (u32, u32, u32, u32) {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    let (w, h) = cam.image_size();
+    let full = (0, 0, w, h);
+    if cam.projection == Projection::Cubemap || margin > 0.5 {
+        return full;
+    }
+    let m = margin * 1.05;
+    let alt = sun.z.clamp(-1.0, 1.0).asin();
+    if cam.projection == Projection::Fisheye && FRAC_PI_2 - alt + m >= PI {
+        return full;
+    }
+    let a = if sun.z.abs() < 0.9 {
+        DVec3::Z
+    } else {
+        DVec3::X
+    };
+    let e1 = sun.cross(a).normalize();
+    let e2 = sun.cross(e1);
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    let (sm, cm) = m.sin_cos();
+    for k in 0..=64 {
+        let d = if k == 64 {
+            sun
+        } else {
+            let phi = TAU * k as f64 / 64.0;
+            sun * cm + (e1 * phi.cos() + e2 * phi.sin()) * sm
+        };
+        let Some((x, y)) = cam.dir_to_pixel(d) else {
+            return full;
+        };
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if cam.projection == Projection::Equirect {
+        if x1 - x0 > w as f64 / 2.0 || alt + m >= FRAC_PI_2 || alt - m <= -FRAC_PI_2 {
+            x0 = 0.0;
+            x1 = w as f64;
+        }
+        if alt + m >= FRAC_PI_2 {
+            y0 = 0.0;
+        }
+        if alt - m <= -FRAC_PI_2 {
+            y1 = h as f64;
+        }
+    }
+    let clamp_x = |v: f64| v.clamp(0.0, w as f64) as u32;
+    let clamp_y = |v: f64| v.clamp(0.0, h as f64) as u32;
+    let (rx0, ry0) = (clamp_x((x0 - 2.0).floor()), clamp_y((y0 - 2.0).floor()));
+    let (rx1, ry1) = (clamp_x((x1 + 2.0).ceil()), clamp_y((y1 + 2.0).ceil()));
+    (rx0, ry0, rx1.max(rx0), ry1.max(ry0))
+}
+
 /// The perspective camera's basis (ENU: forward, right, up) and
 /// tan(fov / 2), as projection.rs builds it.
 fn perspective_basis(cam: &Camera) -> (DVec3, DVec3, DVec3, f64) {
@@ -1029,5 +1103,67 @@ impl SkyRenderer for WgpuRenderer {
             geometry_ms: 0.0,
             sky_view_ms: frame.sky_view_ms,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use himmel_skymodel::projection::enu_from_alt_az;
+
+    /// Every pixel centre within the margin of the Sun lies in the Sun
+    /// pass's rectangle: equirect seam and poles, fisheye horizon and
+    /// zenith, perspective edges (brute force over all pixel centres).
+    #[test]
+    fn sun_rect_holds_every_pixel_within_the_margin() {
+        let cams = [
+            (Projection::Equirect, 256, 128, 0.0, 0.0),
+            (Projection::Fisheye, 128, 128, 0.0, 0.0),
+            (Projection::Perspective, 160, 96, 10.0, 20.0),
+        ];
+        let suns = [
+            (0.5, 0.0),
+            (0.5, 359.5),
+            (89.0, 120.0),
+            (-1.0, 300.0),
+            (20.0, 180.0),
+            (30.0, 40.0),
+            (-89.5, 10.0),
+        ];
+        for (p, w, h, yaw, pitch) in cams {
+            let cam = Camera {
+                projection: p,
+                width: w,
+                height: h,
+                yaw_deg: yaw,
+                pitch_deg: pitch,
+                fov_deg: 90.0,
+            };
+            for (alt, az) in suns {
+                let sun = enu_from_alt_az(f64::to_radians(alt), f64::to_radians(az));
+                let margin = 0.004_65 + 1.5 * cam.max_pixel_angle();
+                let (x0, y0, x1, y1) = sun_rect(&cam, sun, margin);
+                let mut inside = 0;
+                for y in 0..h {
+                    for x in 0..w {
+                        let Some(d) = cam.pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5) else {
+                            continue;
+                        };
+                        if d.dot(sun) >= margin.cos() {
+                            inside += 1;
+                            assert!(
+                                (x0..x1).contains(&x) && (y0..y1).contains(&y),
+                                "{p:?} Sun ({alt}, {az}): pixel ({x}, {y}) outside {:?}",
+                                (x0, y0, x1, y1)
+                            );
+                        }
+                    }
+                }
+                // The rectangle is tight when it is not the whole image.
+                if (x0, y0, x1, y1) != (0, 0, w, h) {
+                    assert!(inside > 0 || (x1 - x0) * (y1 - y0) < w * h / 4);
+                }
+            }
+        }
     }
 }

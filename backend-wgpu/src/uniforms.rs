@@ -36,7 +36,7 @@ pub struct FrameUniforms {
     pub disk: [f32; 4],
     /// Sky-view LUT width, height; Sun table ρ nodes, z nodes.
     pub tables: [u32; 4],
-    /// Sun sub-samples per axis; reserved.
+    /// Sun sub-samples per axis; first pixel x, y of the Sun dispatch; reserved.
     pub opts: [u32; 4],
 }
 

@@ -24,7 +24,7 @@ struct Frame {
     disk: vec4<f32>,
     // sky-view LUT width, height; Sun table ρ nodes, z nodes
     tables: vec4<u32>,
-    // Sun sub-samples per axis, 0, 0, 0
+    // Sun sub-samples per axis; first pixel (x, y) of the Sun dispatch; 0
     opts: vec4<u32>,
 }
 
@@ -181,13 +181,16 @@ fn atmosphere(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // Sun pass: pixels within the margin of the disk are supersampled
-// (n × n sub-pixel directions), as the CPU backend does.
+// (n × n sub-pixel directions), as the CPU backend does. Dispatched over the
+// pixel rectangle that holds the margin, from (opts.y, opts.z).
 @compute @workgroup_size(8, 8, 1)
 fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (!inside(gid)) {
+    let px = gid.x + frame.opts.y;
+    let py = gid.y + frame.opts.z;
+    if (px >= frame.size.x || py >= frame.size.y) {
         return;
     }
-    let d = pixel_dir(f32(gid.x) + 0.5, f32(gid.y) + 0.5);
+    let d = pixel_dir(f32(px) + 0.5, f32(py) + 0.5);
     let c = frame.sun.xyz;
     if (d.w == 0.0 || dot(d.xyz, c) < frame.sun.w) {
         return;
@@ -197,8 +200,8 @@ fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
     var acc = vec3<f32>(0.0);
     for (var sj = 0u; sj < n; sj = sj + 1u) {
         for (var si = 0u; si < n; si = si + 1u) {
-            let sx = f32(gid.x) + (f32(si) + 0.5) * inv;
-            let sy = f32(gid.y) + (f32(sj) + 0.5) * inv;
+            let sx = f32(px) + (f32(si) + 0.5) * inv;
+            let sy = f32(py) + (f32(sj) + 0.5) * inv;
             let s4 = pixel_dir(sx, sy);
             if (s4.w == 0.0) {
                 continue;
@@ -212,7 +215,7 @@ fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
             acc = acc + sun_sample(rho, sd.z);
         }
     }
-    let i = gid.y * frame.size.x + gid.x;
+    let i = py * frame.size.x + px;
     accum[i] = accum[i] + vec4<f32>(acc * (inv * inv), 0.0);
 }
 
