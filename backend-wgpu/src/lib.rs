@@ -136,6 +136,7 @@ pub struct WgpuRenderer {
     info: wgpu::AdapterInfo,
     pipelines: Pipelines,
     timestamps: bool,
+    timestamps_supported: bool,
     /// The CPU renderer whose LUT cache (memory and disk) feeds the GPU.
     cpu: CpuRenderer,
     skyview: SkyViewPipelines,
@@ -210,6 +211,7 @@ impl WgpuRenderer {
             info,
             pipelines,
             timestamps,
+            timestamps_supported: timestamps,
             cpu: CpuRenderer::new(cache_dir),
             skyview,
             gpu_luts: None,
@@ -307,6 +309,12 @@ impl WgpuRenderer {
         } else {
             Timing::Cpu
         }
+    }
+
+    /// Uses timestamp queries for the per-pass times when the adapter has
+    /// them (`true`, the default) or the CPU clock around each awaited pass.
+    pub fn set_timestamps(&mut self, on: bool) {
+        self.timestamps = on && self.timestamps_supported;
     }
 
     /// Computes the per-frame sky-view LUT in a compute shader (`true`,
@@ -600,13 +608,13 @@ impl WgpuRenderer {
                 count: 2 * runs.len() as u32,
             })
         });
+        // With timestamps every pass goes into one submission; without,
+        // each pass is submitted and awaited so that the CPU clock times it.
         let mut enc = dev.create_command_encoder(&Default::default());
         enc.clear_buffer(&accum, 0, None);
-        self.queue.submit([enc.finish()]);
         let mut cpu_ms = Vec::new();
         for (k, (name, pipeline, g)) in runs.iter().enumerate() {
             let t0 = Clock::now();
-            let mut enc = dev.create_command_encoder(&Default::default());
             {
                 let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                     label: Some(name),
@@ -620,10 +628,15 @@ impl WgpuRenderer {
                 pass.set_bind_group(0, &bind, &[]);
                 pass.dispatch_workgroups(g.0, g.1, 1);
             }
-            self.queue.submit([enc.finish()]);
-            self.wait()?;
-            cpu_ms.push(ms(t0));
+            if queries.is_none() {
+                let done =
+                    std::mem::replace(&mut enc, dev.create_command_encoder(&Default::default()));
+                self.queue.submit([done.finish()]);
+                self.wait()?;
+                cpu_ms.push(ms(t0));
+            }
         }
+        self.queue.submit([enc.finish()]);
         let gpu_ms = match &queries {
             Some(q) => Some(self.read_timestamps(q, runs.len())?),
             None => None,

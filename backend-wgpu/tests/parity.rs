@@ -157,6 +157,15 @@ fn noon_fisheye() {
     // The Sun's disk itself (sub-pixel at this size) carries the same energy.
     let (ec, eg) = (sun_sum(&c, &s, &state, 3.0), sun_sum(&g, &s, &state, 3.0));
     assert!((eg / ec - 1.0).abs() < 0.01, "Sun {eg} vs {ec}");
+    // CPU-clock timing (one submission per pass) renders the same image.
+    let mut r = gpu();
+    r.set_timestamps(false);
+    assert_eq!(r.timing(), himmel_wgpu::Timing::Cpu);
+    let out = r.render(&s, &state);
+    r.set_timestamps(true);
+    let out = out.unwrap();
+    assert_eq!(out.image, g);
+    assert!(out.passes.iter().filter(|p| p.ran).all(|p| p.ms.is_some()));
 }
 
 #[test]
