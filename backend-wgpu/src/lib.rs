@@ -23,6 +23,13 @@
 //!   pixels near the disk with [`himmel_cpu::SUN_SUPERSAMPLING`]² sub-pixel
 //!   directions, as the CPU does.
 //!
+//! Adding a pass (Moon, stars, planets, Milky Way): a WGSL entry point of
+//! the same shape as `atmosphere`/`sun` that adds into `accum` (extra
+//! tables go into further bindings, or a second bind group), a pipeline in
+//! `Pipelines`, and its `Effect` arm where `render_frame` maps planned
+//! passes to pipelines and dispatch rectangles; the parity tests then
+//! compare it with the CPU pass.
+//!
 //! Per-pass times come from timestamp queries where the adapter supports
 //! them (`Features::TIMESTAMP_QUERY`), otherwise from the CPU clock around
 //! each submitted and awaited pass ([`WgpuRenderer::timing`]).
