@@ -386,8 +386,8 @@ impl WgpuRenderer {
             || accum_bytes > limits.max_storage_buffer_binding_size
             || accum_bytes > limits.max_buffer_size
         {
-            return Err(RenderError::Other(format!(
-                "a {w}×{h} image exceeds this adapter's limits ({} px per side, {} MiB per buffer)",
+            return Err(RenderError::Unavailable(format!(
+                "a {w}×{h} image exceeds this wgpu adapter's limits ({} px per side, {} MiB per buffer)",
                 limits.max_texture_dimension_2d,
                 limits
                     .max_storage_buffer_binding_size

@@ -8,7 +8,7 @@ use himmel_cpu::output::{self, Format as ImageFormat};
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::camera::{CameraSettings, Exposure};
 use himmel_skymodel::scene::parse_effects;
-use himmel_skymodel::{Projection, Scene, SkyRenderer, SkyState};
+use himmel_skymodel::{Projection, RenderError, Scene, SkyRenderer, SkyState};
 use serde_json::json;
 
 use crate::common;
@@ -233,10 +233,25 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     }
     let scene = build_scene(a)?;
     let state = SkyState::at(&scene).map_err(scene_error)?;
-    let (mut renderer, timing) = make_renderer(backend)?;
-    let out = renderer
-        .render(&scene, &state)
-        .map_err(|e| CliError::other(e.to_string()))?;
+    let (mut renderer, mut timing) = make_renderer(backend)?;
+    let out = match renderer.render(&scene, &state) {
+        Ok(out) => out,
+        // The GPU cannot hold this frame (its buffer or texture limits).
+        Err(RenderError::Unavailable(m)) if backend == "auto" => {
+            eprintln!("note: {m}; falling back to --backend cpu");
+            (renderer, timing) = (cpu_renderer(), "cpu");
+            renderer
+                .render(&scene, &state)
+                .map_err(|e| CliError::other(e.to_string()))?
+        }
+        Err(RenderError::Unavailable(m)) => {
+            return Err(CliError {
+                code: 3,
+                message: format!("--backend {backend}: {m}; use --backend cpu (or auto) instead"),
+            })
+        }
+        Err(e) => return Err(CliError::other(e.to_string())),
+    };
     let t_write = Clock::now();
     let ev = match format {
         ImageFormat::Exr => {
@@ -285,17 +300,26 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     Ok(())
 }
 
+fn cpu_renderer() -> Box<dyn SkyRenderer> {
+    let mut r = CpuRenderer::new(himmel_cpu::cache::default_dir());
+    r.progress = true;
+    Box::new(r)
+}
+
 /// The renderer for `--backend` and how it times passes (`cpu`, or
 /// `gpu-timestamps` on an adapter with timestamp queries): `wgpu` without an
 /// adapter exits 3; `auto` falls back to the CPU with a note on stderr.
 fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), CliError> {
-    let cpu = || {
-        let mut r = CpuRenderer::new(himmel_cpu::cache::default_dir());
-        r.progress = true;
-        Box::new(r) as Box<dyn SkyRenderer>
-    };
+    let cpu = cpu_renderer;
     if backend == "cpu" {
         return Ok((cpu(), "cpu"));
+    }
+    // Mesa's implicit device-select Vulkan layer probes for a Wayland
+    // display and prints "error: XDG_RUNTIME_DIR is invalid …" on headless
+    // machines; wgpu chooses the adapter itself, so skip the layer (this
+    // process only, before any other thread exists).
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
     }
     match himmel_wgpu::WgpuRenderer::new(himmel_cpu::cache::default_dir()) {
         Ok(mut r) => {

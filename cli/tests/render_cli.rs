@@ -181,6 +181,36 @@ fn wgpu_without_adapter_exits_3_and_auto_falls_back() {
     }
 }
 
+/// A frame wider than any adapter's textures (40 000 px): `wgpu` exits 3,
+/// `auto` falls back to the CPU with a note.
+#[test]
+fn frame_beyond_the_adapter_limits_exits_3_or_falls_back() {
+    let png = tmp("wide.png");
+    let wide = [
+        "--width",
+        "40000",
+        "--height",
+        "8",
+        "--effects",
+        "atmosphere",
+    ];
+    let mut a = vec!["--backend", "wgpu", "--output", &png];
+    a.extend_from_slice(&wide);
+    let (code, _, err) = render(&a);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.starts_with("error: --backend wgpu:") && err.contains("limits"),
+        "{err}"
+    );
+    assert!(err.contains("--backend cpu"), "{err}");
+    let mut a = vec!["--backend", "auto", "--output", &png];
+    a.extend_from_slice(&wide);
+    let (code, _, err) = render(&a);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("note:") && err.contains("limits"), "{err}");
+    let _ = std::fs::remove_file(png);
+}
+
 #[test]
 fn wgpu_backend_renders_with_per_pass_times() {
     let png = tmp("w.png");
@@ -198,6 +228,8 @@ fn wgpu_backend_renders_with_per_pass_times() {
         &png,
     ]);
     assert_eq!(code, 0, "{err}");
+    // Nothing on stderr (no driver noise either).
+    assert!(err.trim().is_empty(), "{err}");
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
     assert_eq!(s["backend"], "wgpu");
