@@ -144,6 +144,7 @@ pub struct WgpuRenderer {
     pipelines: Pipelines,
     timestamps: bool,
     timestamps_supported: bool,
+    max_band_bytes: Option<u64>,
     /// The CPU renderer whose LUT cache (memory and disk) feeds the GPU.
     cpu: CpuRenderer,
     skyview: SkyViewPipelines,
@@ -219,6 +220,7 @@ impl WgpuRenderer {
             pipelines,
             timestamps,
             timestamps_supported: timestamps,
+            max_band_bytes: None,
             cpu: CpuRenderer::new(cache_dir),
             skyview,
             gpu_luts: None,
@@ -324,6 +326,12 @@ impl WgpuRenderer {
         self.timestamps = on && self.timestamps_supported;
     }
 
+    /// Caps the accumulation buffer (bytes; `None`: the adapter's storage
+    /// buffer limit). Frames larger than the cap render in bands of rows.
+    pub fn set_max_band_bytes(&mut self, cap: Option<u64>) {
+        self.max_band_bytes = cap;
+    }
+
     /// Computes the per-frame sky-view LUT in a compute shader (`true`,
     /// the default) or on the CPU (uploaded each frame).
     pub fn set_sky_view_on_gpu(&mut self, on: bool) {
@@ -381,20 +389,22 @@ impl WgpuRenderer {
         let cube = cam.projection == Projection::Cubemap;
         let (tw, layers) = if cube { (h, 6) } else { (w, 1) };
         let limits = self.device.limits();
-        let accum_bytes = w as u64 * h as u64 * 16;
-        if tw.max(h) > limits.max_texture_dimension_2d
-            || accum_bytes > limits.max_storage_buffer_binding_size
-            || accum_bytes > limits.max_buffer_size
-        {
+        // The accumulation buffer holds a band of rows within the buffer limits.
+        let row_bytes = w as u64 * 16;
+        let max_bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
+            .min(self.max_band_bytes.unwrap_or(u64::MAX));
+        if tw.max(h) > limits.max_texture_dimension_2d || row_bytes > max_bytes {
             return Err(RenderError::Unavailable(format!(
-                "a {w}×{h} image exceeds this wgpu adapter's limits ({} px per side, {} MiB per buffer)",
+                "a {w}×{h} image exceeds this wgpu adapter's limits ({} px per side)",
                 limits.max_texture_dimension_2d,
-                limits
-                    .max_storage_buffer_binding_size
-                    .min(limits.max_buffer_size)
-                    >> 20
             )));
         }
+        let band_rows = (max_bytes / row_bytes).min(h as u64).max(1) as u32;
+        let bands: Vec<(u32, u32)> = (0..h.div_ceil(band_rows))
+            .map(|b| (b * band_rows, band_rows.min(h - b * band_rows)))
+            .collect();
         let sun_dir = state.sun.dir().as_vec3().normalize();
         let atmosphere = state.runs(Effect::Atmosphere);
 
@@ -510,18 +520,26 @@ impl WgpuRenderer {
                 sun_rect.1,
                 0,
             ],
+            band: [0, h, 0, 0],
         };
 
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;
-        let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("frame"),
-            contents: bytemuck::bytes_of(&frame),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
+        // One uniform per band: its rows and its part of the Sun's rectangle.
+        let band_frames: Vec<FrameUniforms> = bands
+            .iter()
+            .map(|&(row0, rows)| {
+                let y0 = sun_rect.1.clamp(row0, row0 + rows);
+                FrameUniforms {
+                    opts: [frame.opts[0], sun_rect.0, y0, 0],
+                    band: [row0, rows, 0, 0],
+                    ..frame
+                }
+            })
+            .collect();
         let accum = dev.create_buffer(&wgpu::BufferDescriptor {
             label: Some("accum"),
-            size: accum_bytes,
+            size: row_bytes * band_rows as u64,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
@@ -554,51 +572,52 @@ impl WgpuRenderer {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let bind = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sky"),
-            layout: &self.pipelines.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: accum.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: sky.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: sun_buf.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&view),
-                },
-            ],
-        });
-        let groups = (w.div_ceil(8), h.div_ceil(8));
-
-        // Passes back to front, then `store`; each submitted and awaited
-        // so that the CPU clock times it when there are no timestamps.
-        let mut runs: Vec<(String, &wgpu::ComputePipeline, (u32, u32))> = Vec::new();
+        let binds: Vec<wgpu::BindGroup> = band_frames
+            .iter()
+            .map(|bf| {
+                let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("frame"),
+                    contents: bytemuck::bytes_of(bf),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("sky"),
+                    layout: &self.pipelines.layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: uniform.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: accum.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: sky.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: sun_buf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::TextureView(&view),
+                        },
+                    ],
+                })
+            })
+            .collect();
+        // Passes back to front, then `store`, band by band.
+        let mut runs: Vec<(String, &wgpu::ComputePipeline, bool)> = Vec::new();
         let mut stats = Vec::new();
         for planned in &state.passes {
             if planned.run {
-                let (p, g) = match planned.effect {
-                    Effect::Atmosphere => (&self.pipelines.atmosphere, groups),
-                    _ => (
-                        &self.pipelines.sun,
-                        (
-                            (sun_rect.2 - sun_rect.0).div_ceil(8),
-                            (sun_rect.3 - sun_rect.1).div_ceil(8),
-                        ),
-                    ),
+                let (p, is_sun) = match planned.effect {
+                    Effect::Atmosphere => (&self.pipelines.atmosphere, false),
+                    _ => (&self.pipelines.sun, true),
                 };
-                runs.push((planned.effect.name().into(), p, g));
+                runs.push((planned.effect.name().into(), p, is_sun));
             }
             stats.push(PassStat {
                 name: planned.effect.name().into(),
@@ -607,45 +626,70 @@ impl WgpuRenderer {
                 reason: planned.reason.clone(),
             });
         }
-        runs.push(("store".into(), &self.pipelines.store, groups));
+        runs.push(("store".into(), &self.pipelines.store, false));
+        let n_runs = runs.len();
         let queries = self.timestamps.then(|| {
             dev.create_query_set(&wgpu::QuerySetDescriptor {
                 label: Some("pass times"),
                 ty: wgpu::QueryType::Timestamp,
-                count: 2 * runs.len() as u32,
+                count: (2 * n_runs * bands.len()) as u32,
             })
         });
         // With timestamps every pass goes into one submission; without,
         // each pass is submitted and awaited so that the CPU clock times it.
         let mut enc = dev.create_command_encoder(&Default::default());
-        enc.clear_buffer(&accum, 0, None);
-        let mut cpu_ms = Vec::new();
-        for (k, (name, pipeline, g)) in runs.iter().enumerate() {
-            let t0 = Clock::now();
-            {
-                let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                    label: Some(name),
-                    timestamp_writes: queries.as_ref().map(|q| wgpu::ComputePassTimestampWrites {
-                        query_set: q,
-                        beginning_of_pass_write_index: Some(2 * k as u32),
-                        end_of_pass_write_index: Some(2 * k as u32 + 1),
-                    }),
-                });
-                pass.set_pipeline(pipeline);
-                pass.set_bind_group(0, &bind, &[]);
-                pass.dispatch_workgroups(g.0, g.1, 1);
-            }
-            if queries.is_none() {
-                let done =
-                    std::mem::replace(&mut enc, dev.create_command_encoder(&Default::default()));
-                self.queue.submit([done.finish()]);
-                self.wait()?;
-                cpu_ms.push(ms(t0));
+        let mut cpu_ms = vec![0.0; n_runs];
+        for (b, &(row0, rows)) in bands.iter().enumerate() {
+            enc.clear_buffer(&accum, 0, None);
+            for (k, (name, pipeline, is_sun)) in runs.iter().enumerate() {
+                let g = if *is_sun {
+                    let y0 = band_frames[b].opts[2];
+                    let y1 = sun_rect.3.clamp(row0, row0 + rows);
+                    (
+                        (sun_rect.2 - sun_rect.0).div_ceil(8),
+                        y1.saturating_sub(y0).div_ceil(8),
+                    )
+                } else {
+                    (w.div_ceil(8), rows.div_ceil(8))
+                };
+                let q = 2 * (b * n_runs + k) as u32;
+                let t0 = Clock::now();
+                {
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some(name),
+                        timestamp_writes: queries.as_ref().map(|qs| {
+                            wgpu::ComputePassTimestampWrites {
+                                query_set: qs,
+                                beginning_of_pass_write_index: Some(q),
+                                end_of_pass_write_index: Some(q + 1),
+                            }
+                        }),
+                    });
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, &binds[b], &[]);
+                    pass.dispatch_workgroups(g.0, g.1, 1);
+                }
+                if queries.is_none() {
+                    let done = std::mem::replace(
+                        &mut enc,
+                        dev.create_command_encoder(&Default::default()),
+                    );
+                    self.queue.submit([done.finish()]);
+                    self.wait()?;
+                    cpu_ms[k] += ms(t0);
+                }
             }
         }
         self.queue.submit([enc.finish()]);
         let gpu_ms = match &queries {
-            Some(q) => Some(self.read_timestamps(q, runs.len())?),
+            Some(qs) => {
+                let t = self.read_timestamps(qs, n_runs * bands.len())?;
+                let mut sum = vec![0.0; n_runs];
+                for (i, v) in t.iter().enumerate() {
+                    sum[i % n_runs] += v;
+                }
+                Some(sum)
+            }
             None => None,
         };
         let times = gpu_ms.unwrap_or(cpu_ms);

@@ -17,7 +17,7 @@ pub mod projection_code {
 }
 
 /// Mirror of WGSL `struct Frame` (src/shaders/sky.wgsl): per-frame
-/// camera, Sun and table parameters. 128 bytes.
+/// camera, Sun and table parameters. 144 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -38,6 +38,8 @@ pub struct FrameUniforms {
     pub tables: [u32; 4],
     /// Sun sub-samples per axis; first pixel x, y of the Sun dispatch; reserved.
     pub opts: [u32; 4],
+    /// The band of rows of this dispatch: first row, row count; reserved.
+    pub band: [u32; 4],
 }
 
 /// Mirror of WGSL `struct Atmo` (src/shaders/skyview.wgsl): the medium,
@@ -92,7 +94,7 @@ mod tests {
     /// computes for the WGSL `Frame` (uniform address space rules).
     #[test]
     fn frame_uniforms_mirror_the_wgsl_struct() {
-        assert_eq!(size_of::<FrameUniforms>(), 128);
+        assert_eq!(size_of::<FrameUniforms>(), 144);
         assert_eq!(align_of::<FrameUniforms>(), 4);
         let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
         let mut layouter = naga::proc::Layouter::default();
@@ -116,6 +118,7 @@ mod tests {
             ("disk", offset_of!(FrameUniforms, disk)),
             ("tables", offset_of!(FrameUniforms, tables)),
             ("opts", offset_of!(FrameUniforms, opts)),
+            ("band", offset_of!(FrameUniforms, band)),
         ];
         assert_eq!(members.len(), rust.len());
         for (m, (name, off)) in members.iter().zip(rust) {

@@ -182,6 +182,19 @@ fn sunset_equirect_with_a_large_sun() {
     let (ec, eg) = (sun_sum(&c, &s, &state, 6.0), sun_sum(&g, &s, &state, 6.0));
     assert!(ec > 0.0);
     assert!((eg / ec - 1.0).abs() < 0.02, "Sun {eg} vs {ec}");
+    // Rendered in bands of 7 rows (as frames beyond the adapter's buffer
+    // limits are), the image is the same; also with CPU-clock timing.
+    for timestamps in [true, false] {
+        let mut r = gpu();
+        r.set_max_band_bytes(Some(512 * 16 * 7));
+        r.set_timestamps(timestamps);
+        let out = r.render(&s, &state);
+        r.set_max_band_bytes(None);
+        r.set_timestamps(true);
+        let out = out.unwrap();
+        assert_eq!(out.image, g, "banded, timestamps {timestamps}");
+        assert!(out.passes.iter().filter(|p| p.ran).all(|p| p.ms.is_some()));
+    }
 }
 
 #[test]

@@ -26,6 +26,9 @@ struct Frame {
     tables: vec4<u32>,
     // Sun sub-samples per axis; first pixel (x, y) of the Sun dispatch; 0
     opts: vec4<u32>,
+    // the band of rows this dispatch renders: first row, row count
+    // (`accum` holds the band; frames beyond the buffer limits are banded)
+    band: vec4<u32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -163,7 +166,7 @@ fn sun_sample(rho: f32, z: f32) -> vec3<f32> {
 }
 
 fn inside(gid: vec3<u32>) -> bool {
-    return gid.x < frame.size.x && gid.y < frame.size.y;
+    return gid.x < frame.size.x && gid.y < frame.band.y;
 }
 
 // Atmosphere pass: one sky-view lookup per pixel centre.
@@ -172,7 +175,7 @@ fn atmosphere(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (!inside(gid)) {
         return;
     }
-    let d = pixel_dir(f32(gid.x) + 0.5, f32(gid.y) + 0.5);
+    let d = pixel_dir(f32(gid.x) + 0.5, f32(gid.y + frame.band.x) + 0.5);
     if (d.w == 0.0) {
         return;
     }
@@ -187,7 +190,7 @@ fn atmosphere(@builtin(global_invocation_id) gid: vec3<u32>) {
 fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
     let px = gid.x + frame.opts.y;
     let py = gid.y + frame.opts.z;
-    if (px >= frame.size.x || py >= frame.size.y) {
+    if (px >= frame.size.x || py >= frame.band.x + frame.band.y) {
         return;
     }
     let d = pixel_dir(f32(px) + 0.5, f32(py) + 0.5);
@@ -215,7 +218,7 @@ fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
             acc = acc + sun_sample(rho, sd.z);
         }
     }
-    let i = py * frame.size.x + px;
+    let i = (py - frame.band.x) * frame.size.x + px;
     accum[i] = accum[i] + vec4<f32>(acc * (inv * inv), 0.0);
 }
 
@@ -226,7 +229,8 @@ fn store(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (!inside(gid)) {
         return;
     }
-    let d = pixel_dir(f32(gid.x) + 0.5, f32(gid.y) + 0.5);
+    let py = gid.y + frame.band.x;
+    let d = pixel_dir(f32(gid.x) + 0.5, f32(py) + 0.5);
     let i = gid.y * frame.size.x + gid.x;
     var layer = 0u;
     var x = gid.x;
@@ -234,5 +238,5 @@ fn store(@builtin(global_invocation_id) gid: vec3<u32>) {
         layer = gid.x / frame.size.w;
         x = gid.x - layer * frame.size.w;
     }
-    textureStore(target_tex, vec2<u32>(x, gid.y), layer, vec4<f32>(accum[i].xyz, d.w));
+    textureStore(target_tex, vec2<u32>(x, py), layer, vec4<f32>(accum[i].xyz, d.w));
 }
