@@ -378,8 +378,9 @@ impl WgpuRenderer {
             .map_err(|e| RenderError::Scene(e.field, e.message))?;
         for p in state.passes.iter().filter(|p| p.run) {
             if !matches!(p.effect, Effect::Atmosphere | Effect::Sun) {
-                return Err(RenderError::Other(format!(
-                    "the {} pass is not available in the wgpu backend of this version",
+                // Unavailable: `--backend auto` then falls back to the CPU.
+                return Err(RenderError::Unavailable(format!(
+                    "the {} pass is not yet available in the wgpu backend",
                     p.effect.name()
                 )));
             }

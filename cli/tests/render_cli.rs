@@ -222,6 +222,8 @@ fn wgpu_backend_renders_with_per_pass_times() {
         "64",
         "--height",
         "64",
+        "--effects",
+        "atmosphere,sun",
         "--stats",
         &stats,
         "--output",
