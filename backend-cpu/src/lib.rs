@@ -246,6 +246,32 @@ fn ms(t: Clock) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
+impl CpuRenderer {
+    /// The night passes (Milky Way, stars, planets) of `state` that would
+    /// be invisible at the scene's exposure, with their reasons: the
+    /// culling [`CpuRenderer::render`] applies, for a backend that has not
+    /// ported those passes (it costs the CPU sky view and a sparse
+    /// metering of the frame; nothing when no night pass is planned).
+    pub fn night_culling(&mut self, scene: &Scene, state: &SkyState) -> Vec<(Effect, String)> {
+        let night = [Effect::Milkyway, Effect::Stars, Effect::Planets];
+        if !night.into_iter().any(|e| state.runs(e)) {
+            return Vec::new();
+        }
+        let atmosphere = state.runs(Effect::Atmosphere);
+        if atmosphere {
+            self.luts(&scene.atmosphere, &scene.lut);
+        }
+        let luts = self.luts.as_ref().filter(|_| atmosphere);
+        let sky = luts.map(|l| SkyLight::new(l, scene, state));
+        let dirs = directions(&scene.camera);
+        let frame = night_pass::NightFrame::prepare(scene, state, luts, sky.as_ref(), &dirs);
+        night
+            .into_iter()
+            .filter_map(|e| frame.reason(e).map(|r| (e, r.to_string())))
+            .collect()
+    }
+}
+
 impl SkyRenderer for CpuRenderer {
     fn name(&self) -> &'static str {
         "cpu"

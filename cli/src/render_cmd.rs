@@ -8,7 +8,7 @@ use himmel_cpu::output::{self, Format as ImageFormat};
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::camera::{CameraSettings, Exposure};
 use himmel_skymodel::scene::parse_effects;
-use himmel_skymodel::{Projection, Scene, SkyRenderer, SkyState};
+use himmel_skymodel::{Projection, RenderError, Scene, SkyRenderer, SkyState};
 use serde_json::json;
 
 use crate::common;
@@ -225,32 +225,33 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             output.display()
         ))
     })?;
-    match a.backend.trim() {
-        "cpu" => {}
-        "auto" => {
-            eprintln!("note: the wgpu backend is not built in this version; using --backend cpu")
-        }
-        "wgpu" => {
-            return Err(CliError {
-                code: 3,
-                message:
-                    "--backend wgpu: no wgpu adapter available in this build; use --backend cpu"
-                        .into(),
-            })
-        }
-        other => {
-            return Err(CliError::input(format!(
-                "--backend: unknown backend '{other}'; expected cpu, wgpu or auto"
-            )))
-        }
+    let backend = a.backend.trim();
+    if !matches!(backend, "cpu" | "wgpu" | "auto") {
+        return Err(CliError::input(format!(
+            "--backend: unknown backend '{backend}'; expected cpu, wgpu or auto"
+        )));
     }
     let scene = build_scene(a)?;
     let state = SkyState::at(&scene).map_err(scene_error)?;
-    let mut renderer = CpuRenderer::new(himmel_cpu::cache::default_dir());
-    renderer.progress = true;
-    let out = renderer
-        .render(&scene, &state)
-        .map_err(|e| CliError::other(e.to_string()))?;
+    let (mut renderer, mut timing) = make_renderer(backend)?;
+    let out = match renderer.render(&scene, &state) {
+        Ok(out) => out,
+        // The GPU cannot hold this frame (its buffer or texture limits).
+        Err(RenderError::Unavailable(m)) if backend == "auto" => {
+            eprintln!("note: {m}; falling back to --backend cpu");
+            (renderer, timing) = (cpu_renderer(), "cpu");
+            renderer
+                .render(&scene, &state)
+                .map_err(|e| CliError::other(e.to_string()))?
+        }
+        Err(RenderError::Unavailable(m)) => {
+            return Err(CliError {
+                code: 3,
+                message: format!("--backend {backend}: {m}; use --backend cpu (or auto) instead"),
+            })
+        }
+        Err(e) => return Err(CliError::other(e.to_string())),
+    };
     let t_write = Clock::now();
     let ev = match format {
         ImageFormat::Exr => {
@@ -270,6 +271,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     if let Some(path) = &a.stats {
         let stats = json!({
             "backend": renderer.name(),
+            "timing": timing,
             "width": out.image.width,
             "height": out.image.height,
             "passes": out.passes,
@@ -298,6 +300,44 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             .map_err(|e| CliError::other(format!("--stats {}: {e}", path.display())))?;
     }
     Ok(())
+}
+
+fn cpu_renderer() -> Box<dyn SkyRenderer> {
+    let mut r = CpuRenderer::new(himmel_cpu::cache::default_dir());
+    r.progress = true;
+    Box::new(r)
+}
+
+/// The renderer for `--backend` and how it times passes (`cpu`, or
+/// `gpu-timestamps` on an adapter with timestamp queries): `wgpu` without an
+/// adapter exits 3; `auto` falls back to the CPU with a note on stderr.
+fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), CliError> {
+    let cpu = cpu_renderer;
+    if backend == "cpu" {
+        return Ok((cpu(), "cpu"));
+    }
+    // Mesa's implicit device-select Vulkan layer probes for a Wayland
+    // display and prints "error: XDG_RUNTIME_DIR is invalid …" on headless
+    // machines; wgpu chooses the adapter itself, so skip the layer (this
+    // process only, before any other thread exists).
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+    match himmel_wgpu::WgpuRenderer::new(himmel_cpu::cache::default_dir()) {
+        Ok(mut r) => {
+            r.set_progress(true);
+            let timing = r.timing().name();
+            Ok((Box::new(r), timing))
+        }
+        Err(e) if backend == "auto" => {
+            eprintln!("note: {e}; falling back to --backend cpu");
+            Ok((cpu(), "cpu"))
+        }
+        Err(e) => Err(CliError {
+            code: 3,
+            message: format!("--backend wgpu: {e}; use --backend cpu (or auto) instead"),
+        }),
+    }
 }
 
 /// `himmel scene-template`: prints the complete default scene.

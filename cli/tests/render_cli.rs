@@ -129,11 +129,128 @@ fn template_is_a_complete_scene_and_renders_with_stats() {
     }
 }
 
+/// `render` with `WGPU_BACKEND` set (an absent backend: no adapter).
+fn render_env(backend_env: &str, extra: &[&str]) -> (i32, String, String) {
+    let mut a = vec!["render"];
+    a.extend_from_slice(&BASE);
+    a.extend_from_slice(extra);
+    let out = Command::new(env!("CARGO_BIN_EXE_himmel"))
+        .args(&a)
+        .env("HIMMEL_CACHE_DIR", "")
+        .env("WGPU_BACKEND", backend_env)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+/// DX12 exists only on Windows, Metal only on Apple systems.
+const ABSENT: &str = if cfg!(windows) { "metal" } else { "dx12" };
+
 #[test]
-fn wgpu_backend_is_unavailable_exit_3() {
-    let (code, _, err) = render(&["--backend", "wgpu", "--output", &tmp("g.png")]);
-    assert_eq!(code, 3);
+fn wgpu_without_adapter_exits_3_and_auto_falls_back() {
+    let png = tmp("g.png");
+    let small = ["--width", "32", "--height", "32", "--output", &png];
+    let mut a = vec!["--backend", "wgpu"];
+    a.extend_from_slice(&small);
+    let (code, _, err) = render_env(ABSENT, &a);
+    assert_eq!(code, 3, "{err}");
+    assert_eq!(err.trim().lines().count(), 1, "{err}");
+    assert!(
+        err.starts_with("error: --backend wgpu: no wgpu adapter"),
+        "{err}"
+    );
     assert!(err.contains("--backend cpu"), "{err}");
+    let stats = tmp("auto.json");
+    let mut a = vec!["--backend", "auto", "--stats", &stats];
+    a.extend_from_slice(&small);
+    let (code, _, err) = render_env(ABSENT, &a);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("note:") && err.contains("--backend cpu"),
+        "{err}"
+    );
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(s["backend"], "cpu");
+    for p in [png, stats] {
+        let _ = std::fs::remove_file(p);
+    }
+}
+
+/// A frame wider than any adapter's textures (40 000 px): `wgpu` exits 3,
+/// `auto` falls back to the CPU with a note.
+#[test]
+fn frame_beyond_the_adapter_limits_exits_3_or_falls_back() {
+    let png = tmp("wide.png");
+    let wide = [
+        "--width",
+        "40000",
+        "--height",
+        "8",
+        "--effects",
+        "atmosphere",
+    ];
+    let mut a = vec!["--backend", "wgpu", "--output", &png];
+    a.extend_from_slice(&wide);
+    let (code, _, err) = render(&a);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.starts_with("error: --backend wgpu:") && err.contains("limits"),
+        "{err}"
+    );
+    assert!(err.contains("--backend cpu"), "{err}");
+    let mut a = vec!["--backend", "auto", "--output", &png];
+    a.extend_from_slice(&wide);
+    let (code, _, err) = render(&a);
+    assert_eq!(code, 0, "{err}");
+    assert!(err.contains("note:") && err.contains("limits"), "{err}");
+    let _ = std::fs::remove_file(png);
+}
+
+#[test]
+fn wgpu_backend_renders_with_per_pass_times() {
+    let png = tmp("w.png");
+    let stats = tmp("w.json");
+    let (code, _, err) = render(&[
+        "--backend",
+        "wgpu",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--effects",
+        "atmosphere,sun",
+        "--stats",
+        &stats,
+        "--output",
+        &png,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    // Nothing on stderr (no driver noise either).
+    assert!(err.trim().is_empty(), "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(s["backend"], "wgpu");
+    let timing = s["timing"].as_str().unwrap();
+    assert!(timing == "gpu-timestamps" || timing == "cpu", "{timing}");
+    let passes = s["passes"].as_array().unwrap();
+    assert_eq!(passes.len(), 7);
+    for p in passes {
+        if p["ran"].as_bool().unwrap() {
+            assert!(p["ms"].as_f64().unwrap() >= 0.0, "{p}");
+        }
+    }
+    assert!(passes
+        .iter()
+        .any(|p| p["name"] == "atmosphere" && p["ran"] == true));
+    assert!(std::fs::metadata(&png).unwrap().len() > 100);
+    for p in [png, stats] {
+        let _ = std::fs::remove_file(p);
+    }
 }
 
 #[test]
@@ -357,4 +474,80 @@ fn night_exr_star_peaks_and_illuminance_match_himmel_stars() {
         ((e - others) / want - 1.0).abs() < 0.10,
         "{e} − {others} vs {want}"
     );
+}
+
+/// The night passes are not ported to WGSL yet: at noon they are culled as
+/// on the CPU and the frame renders on wgpu; at night, where they would
+/// show, `--backend wgpu` exits 3 and `auto` falls back to the CPU.
+#[test]
+fn wgpu_culls_night_passes_at_noon_and_refuses_them_at_night() {
+    let png = tmp("wn.png");
+    let stats = tmp("wn.json");
+    let noon = [
+        "render",
+        "--time",
+        "2024-06-21T11:15:00Z",
+        "--lat",
+        "48.14",
+        "--lon",
+        "11.58",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--backend",
+        "wgpu",
+        "--stats",
+        &stats,
+        "--output",
+        &png,
+    ];
+    let (code, _, err) = himmel(&noon);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    assert_eq!(s["backend"], "wgpu");
+    let pass = |n: &str| {
+        s["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == n)
+            .cloned()
+            .unwrap()
+    };
+    for n in ["stars", "milkyway", "planets"] {
+        let p = pass(n);
+        assert_eq!(p["ran"], false, "{p}");
+        assert!(
+            p["reason"].as_str().unwrap().contains("sky background"),
+            "{p}"
+        );
+    }
+    let night = [
+        "render",
+        "--time",
+        "2024-01-15T21:00:00Z",
+        "--lat",
+        "48.14",
+        "--lon",
+        "11.58",
+        "--width",
+        "64",
+        "--height",
+        "64",
+        "--backend",
+        "wgpu",
+        "--output",
+        &png,
+    ];
+    let (code, _, err) = himmel(&night);
+    assert_eq!(code, 3, "{err}");
+    assert!(
+        err.starts_with("error: --backend wgpu:") && err.contains("not yet available"),
+        "{err}"
+    );
+    for p in [png, stats] {
+        let _ = std::fs::remove_file(p);
+    }
 }

@@ -1063,8 +1063,8 @@ pub fn moon_state(
 /// drawn disk lies entirely below the horizon (refracted altitude +
 /// drawn radius < 0°). The threshold is the horizon itself because the
 /// Moon pass draws only the disk (the ground hides what is below the
-/// horizon) and moonlight in the sky is not modelled, so a Moon below the
-/// horizon contributes nothing to the image.
+/// horizon); the moonlit sky belongs to the atmosphere pass
+/// ([`moonlight_scale`], down to [`MOONLIGHT_BELOW_DEG`]).
 pub fn plan_moon(passes: &mut [crate::state::PlannedPass], scene: &crate::Scene, moon: &MoonState) {
     for p in passes.iter_mut() {
         if p.effect != crate::Effect::Moon || !p.run {
@@ -1074,8 +1074,13 @@ pub fn plan_moon(passes: &mut [crate::state::PlannedPass], scene: &crate::Scene,
         if top < 0.0 {
             p.run = false;
             p.reason = Some(format!(
-                "the Moon's disk is below the horizon (refracted altitude {:.2}°; the pass draws only the disk, moonlight in the sky is not modelled)",
-                moon.alt_refracted_deg
+                "the Moon's disk is below the horizon (refracted altitude {:.2}°; the moonlit sky is part of the atmosphere pass{})",
+                moon.alt_refracted_deg,
+                if moon.alt_refracted_deg < MOONLIGHT_BELOW_DEG {
+                    format!(", which leaves it out below {MOONLIGHT_BELOW_DEG}°")
+                } else {
+                    String::new()
+                }
             ));
         }
     }

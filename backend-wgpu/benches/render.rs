@@ -1,0 +1,79 @@
+//! Criterion benchmarks of the wgpu backend against the CPU backend in the
+//! same run (issue 7 acceptance figures), atmosphere + Sun, fisheye, LUTs
+//! in memory (after precompute):
+//!
+//! * `wgpu_frame` — one frame left on the GPU (sky-view LUT in a compute
+//!   shader, atmosphere, Sun, store), no read-back;
+//! * `wgpu_frame_cpu_sky_view` — the same with the sky view computed on the
+//!   CPU and uploaded;
+//! * `wgpu_frame_readback` — `wgpu_frame` plus the copy back into an `HdrImage`;
+//! * `cpu_frame` — the CPU renderer, all cores.
+//!
+//! `cargo bench -p himmel-wgpu --bench render` (on lavapipe without a GPU).
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use himmel_cpu::CpuRenderer;
+use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
+use himmel_wgpu::WgpuRenderer;
+
+fn scene(w: u32, h: u32) -> Scene {
+    let mut s = Scene::default();
+    s.time.utc = "2024-06-21T17:30:00Z".into();
+    s.effects = vec![Effect::Atmosphere, Effect::Sun];
+    s.camera.projection = Projection::Fisheye;
+    s.camera.width = w;
+    s.camera.height = h;
+    s
+}
+
+fn benches(c: &mut Criterion) {
+    let mut gpu = match WgpuRenderer::new(None) {
+        Ok(r) => r,
+        Err(e) => {
+            eprintln!("skipping the wgpu benchmarks: {e}");
+            return;
+        }
+    };
+    let info = gpu.adapter_info();
+    eprintln!(
+        "adapter: {} ({:?}, {:?}), timing: {}",
+        info.name,
+        info.backend,
+        info.device_type,
+        gpu.timing().name()
+    );
+    let mut cpu = CpuRenderer::new(None);
+    for (w, h) in [(1024u32, 1024u32), (1920, 1080)] {
+        let s = scene(w, h);
+        let state = SkyState::at(&s).unwrap();
+        gpu.render(&s, &state).unwrap();
+        cpu.render(&s, &state).unwrap();
+        let mut g = c.benchmark_group(format!("{w}x{h}"));
+        g.sample_size(10);
+        g.bench_function("wgpu_frame", |b| {
+            b.iter(|| gpu.render_frame(&s, &state).unwrap())
+        });
+        gpu.set_sky_view_on_gpu(false);
+        g.bench_function("wgpu_frame_cpu_sky_view", |b| {
+            b.iter(|| gpu.render_frame(&s, &state).unwrap())
+        });
+        gpu.set_sky_view_on_gpu(true);
+        g.bench_function("wgpu_frame_readback", |b| {
+            b.iter(|| gpu.render(&s, &state).unwrap())
+        });
+        g.bench_function("cpu_frame", |b| b.iter(|| cpu.render(&s, &state).unwrap()));
+        g.finish();
+        let out = gpu.render(&s, &state).unwrap();
+        for p in out.passes.iter().filter(|p| p.ran) {
+            eprintln!(
+                "{w}x{h} wgpu pass {}: {:.2} ms",
+                p.name,
+                p.ms.unwrap_or(0.0)
+            );
+        }
+        eprintln!("{w}x{h} wgpu sky view (GPU): {:.2} ms", out.sky_view_ms);
+    }
+}
+
+criterion_group!(wgpu_render, benches);
+criterion_main!(wgpu_render);

@@ -1,0 +1,1244 @@
+//! `himmel-wgpu`: the GPU renderer of Himmel on wgpu, headless (Vulkan,
+//! Metal, DX12 — any adapter, software ones such as Mesa's lavapipe
+//! included).
+//!
+//! Every sky pass is a WGSL compute shader (`src/shaders/sky.wgsl`) that
+//! adds its radiance (linear sRGB, cd/m², conventions.md Photometry) into
+//! a per-pixel accumulation buffer, back to front, as the CPU reference
+//! renderer (`himmel-cpu`) does; a final `store` pass writes the frame into
+//! an `rgba32float` texture: one layer for fisheye, equirect and
+//! perspective images, six layers (+X −X +Y −Y +Z −Z, scene frame,
+//! conventions.md) for a cube map, which users can bind as a
+//! `TextureViewDimension::Cube` texture ([`WgpuRenderer::render_cubemap`]).
+//!
+//! * Atmosphere: the parameter-dependent LUTs and the per-frame sky-view
+//!   LUT (Hillaire 2020) are computed on the CPU by `himmel-cpu`
+//!   (in-memory and on-disk cache) and uploaded; the shader computes each
+//!   pixel's view direction from the projection (projection.rs in f32) and
+//!   looks the sky view up bilinearly (lut.rs `SkyView::radiance`).
+//! * Sun: the disk (limb darkening of Hestroffer & Magnan 1998, extinction
+//!   by the transmittance LUT) is tabulated on the CPU as linear sRGB over
+//!   (normalised disk radius ρ, line-of-sight zenith cosine) — the exact
+//!   `SunDisk::radiance_rgb` at the nodes — and the shader supersamples
+//!   pixels near the disk with [`himmel_cpu::SUN_SUPERSAMPLING`]² sub-pixel
+//!   directions, as the CPU does.
+//!
+//! Adding a pass (Moon, stars, planets, Milky Way): a WGSL entry point of
+//! the same shape as `atmosphere`/`sun` that adds into `accum` (extra
+//! tables go into further bindings, or a second bind group), a pipeline in
+//! `Pipelines`, and its `Effect` arm where `render_frame` maps planned
+//! passes to pipelines and dispatch rectangles; the parity tests then
+//! compare it with the CPU pass.
+//!
+//! Per-pass times come from timestamp queries where the adapter supports
+//! them (`Features::TIMESTAMP_QUERY`), otherwise from the CPU clock around
+//! each submitted and awaited pass ([`WgpuRenderer::timing`]).
+
+pub mod uniforms;
+
+use std::path::PathBuf;
+use std::time::Instant as Clock;
+
+use glam::{DVec3, Vec3};
+use himmel_cpu::CpuRenderer;
+use himmel_skymodel::atmosphere::{AtmosphereLuts, SkyViewInput};
+use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
+use himmel_skymodel::spectrum::Spectrum;
+use himmel_skymodel::sun::SunDisk;
+use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
+use wgpu::util::DeviceExt;
+
+use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
+pub use uniforms::{AtmosphereUniforms, FrameUniforms};
+
+/// Nodes of the Sun table in normalised disk radius ρ.
+pub const SUN_TABLE_RHO: usize = 64;
+/// Nodes of the Sun table in line-of-sight zenith cosine.
+pub const SUN_TABLE_Z: usize = 128;
+
+/// The texture format of every render target.
+pub const TARGET_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+/// Why the GPU backend cannot start.
+#[derive(Debug, Clone, PartialEq)]
+pub enum WgpuError {
+    /// No adapter of the enabled backends (`WGPU_BACKEND`) exists.
+    NoAdapter(String),
+    /// The adapter refused to create a device.
+    Device(String),
+}
+
+impl std::fmt::Display for WgpuError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            WgpuError::NoAdapter(m) => write!(f, "no wgpu adapter available ({m})"),
+            WgpuError::Device(m) => write!(f, "the wgpu adapter cannot create a device ({m})"),
+        }
+    }
+}
+
+impl std::error::Error for WgpuError {}
+
+impl From<WgpuError> for RenderError {
+    fn from(e: WgpuError) -> Self {
+        RenderError::Unavailable(e.to_string())
+    }
+}
+
+/// How per-pass times were measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Timing {
+    /// GPU timestamp queries around each compute pass.
+    GpuTimestamps,
+    /// CPU clock around each submitted pass, waiting for its completion.
+    Cpu,
+}
+
+impl Timing {
+    /// The `--stats` name: `gpu-timestamps` or `cpu`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Timing::GpuTimestamps => "gpu-timestamps",
+            Timing::Cpu => "cpu",
+        }
+    }
+}
+
+struct Pipelines {
+    layout: wgpu::BindGroupLayout,
+    atmosphere: wgpu::ComputePipeline,
+    sun: wgpu::ComputePipeline,
+    store: wgpu::ComputePipeline,
+}
+
+/// A frame left on the GPU: the target texture (rgba32float; 1 layer, or 6
+/// cube faces) and the frame's statistics.
+#[derive(Debug)]
+pub struct GpuFrame {
+    /// The target: `TEXTURE_BINDING | STORAGE_BINDING | COPY_SRC`, alpha 1
+    /// where the projection shows the scene. A cube map's six layers are
+    /// the faces +X −X +Y −Y +Z −Z of the scene frame (x East, y Up,
+    /// z South): bind it through a `TextureViewDimension::Cube` view.
+    pub texture: wgpu::Texture,
+    /// Image width and height (the 6H×H strip for a cube map).
+    pub width: u32,
+    /// Image height (the face size for a cube map).
+    pub height: u32,
+    /// Whether the texture holds six cube faces.
+    pub cube: bool,
+    /// Per-pass statistics, back to front.
+    pub passes: Vec<PassStat>,
+    /// LUT time (memory, disk or computation), ms.
+    pub precompute_ms: f64,
+    /// Where the LUTs came from.
+    pub lut_source: &'static str,
+    /// CPU time of the per-frame sky-view LUT, ms.
+    pub sky_view_ms: f64,
+}
+
+/// The wgpu renderer.
+pub struct WgpuRenderer {
+    device: wgpu::Device,
+    queue: wgpu::Queue,
+    info: wgpu::AdapterInfo,
+    pipelines: Pipelines,
+    timestamps: bool,
+    timestamps_supported: bool,
+    max_band_bytes: Option<u64>,
+    /// The CPU renderer whose LUT cache (memory and disk) feeds the GPU.
+    cpu: CpuRenderer,
+    skyview: SkyViewPipelines,
+    gpu_luts: Option<GpuLuts>,
+    sky_view_on_gpu: bool,
+}
+
+struct SkyViewPipelines {
+    layout: wgpu::BindGroupLayout,
+    sky_view: wgpu::ComputePipeline,
+    ground: wgpu::ComputePipeline,
+}
+
+/// The parameter-dependent LUTs on the GPU (three vec4 band groups per
+/// texel), for the parameters they were uploaded for.
+struct GpuLuts {
+    params: himmel_skymodel::atmosphere::AtmosphereParams,
+    config: himmel_skymodel::atmosphere::LutConfig,
+    trans: wgpu::Buffer,
+    trans_s: wgpu::Buffer,
+    multi: wgpu::Buffer,
+}
+
+impl std::fmt::Debug for WgpuRenderer {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("WgpuRenderer")
+            .field("adapter", &self.info.name)
+            .field("backend", &self.info.backend)
+            .field("timestamps", &self.timestamps)
+            .finish()
+    }
+}
+
+fn ms(t: Clock) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+impl WgpuRenderer {
+    /// A renderer on the first adapter wgpu offers (high-performance
+    /// preference; software adapters included) among the backends that
+    /// `WGPU_BACKEND` allows (all by default), with the LUT disk cache in
+    /// `cache_dir`. Errors when no adapter or device is available.
+    pub fn new(cache_dir: Option<PathBuf>) -> Result<Self, WgpuError> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
+            power_preference: wgpu::PowerPreference::HighPerformance,
+            force_fallback_adapter: false,
+            compatible_surface: None,
+            apply_limit_buckets: false,
+        }))
+        .map_err(|e| WgpuError::NoAdapter(e.to_string()))?;
+        let info = adapter.get_info();
+        let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
+        let features = if timestamps {
+            wgpu::Features::TIMESTAMP_QUERY
+        } else {
+            wgpu::Features::empty()
+        };
+        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
+            label: Some("himmel"),
+            required_features: features,
+            required_limits: adapter.limits(),
+            ..Default::default()
+        }))
+        .map_err(|e| WgpuError::Device(e.to_string()))?;
+        let pipelines = Self::pipelines(&device);
+        let skyview = skyview_pipelines(&device);
+        Ok(WgpuRenderer {
+            device,
+            queue,
+            info,
+            pipelines,
+            timestamps,
+            timestamps_supported: timestamps,
+            max_band_bytes: None,
+            cpu: CpuRenderer::new(cache_dir),
+            skyview,
+            gpu_luts: None,
+            sky_view_on_gpu: true,
+        })
+    }
+
+    fn pipelines(device: &wgpu::Device) -> Pipelines {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("sky.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(SKY_WGSL.into()),
+        });
+        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Buffer {
+                ty: wgpu::BufferBindingType::Storage { read_only },
+                has_dynamic_offset: false,
+                min_binding_size: None,
+            },
+            count: None,
+        };
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sky"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(
+                            std::mem::size_of::<FrameUniforms>() as u64,
+                        ),
+                    },
+                    count: None,
+                },
+                storage(1, false),
+                storage(2, true),
+                storage(3, true),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: TARGET_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2Array,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sky"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Pipelines {
+            atmosphere: pipeline("atmosphere"),
+            sun: pipeline("sun"),
+            store: pipeline("store"),
+            layout,
+        }
+    }
+
+    /// The device (to bind [`GpuFrame::texture`] in your own passes).
+    pub fn device(&self) -> &wgpu::Device {
+        &self.device
+    }
+
+    /// The queue of [`Self::device`].
+    pub fn queue(&self) -> &wgpu::Queue {
+        &self.queue
+    }
+
+    /// The adapter: name, backend, device type (`Cpu` for lavapipe).
+    pub fn adapter_info(&self) -> &wgpu::AdapterInfo {
+        &self.info
+    }
+
+    /// How per-pass times are measured on this adapter.
+    pub fn timing(&self) -> Timing {
+        if self.timestamps {
+            Timing::GpuTimestamps
+        } else {
+            Timing::Cpu
+        }
+    }
+
+    /// Uses timestamp queries for the per-pass times when the adapter has
+    /// them (`true`, the default) or the CPU clock around each awaited pass.
+    pub fn set_timestamps(&mut self, on: bool) {
+        self.timestamps = on && self.timestamps_supported;
+    }
+
+    /// Caps the accumulation buffer (bytes; `None`: the adapter's storage
+    /// buffer limit). Frames larger than the cap render in bands of rows.
+    pub fn set_max_band_bytes(&mut self, cap: Option<u64>) {
+        self.max_band_bytes = cap;
+    }
+
+    /// Computes the per-frame sky-view LUT in a compute shader (`true`,
+    /// the default) or on the CPU (uploaded each frame).
+    pub fn set_sky_view_on_gpu(&mut self, on: bool) {
+        self.sky_view_on_gpu = on;
+    }
+
+    /// Whether the sky-view LUT is computed on the GPU.
+    pub fn sky_view_on_gpu(&self) -> bool {
+        self.sky_view_on_gpu
+    }
+
+    /// Shows a progress bar during a long LUT precomputation (terminal only).
+    pub fn set_progress(&mut self, on: bool) {
+        self.cpu.progress = on;
+    }
+
+    /// Renders a cube map of the scene with faces of `face` × `face`
+    /// pixels (the scene's camera is replaced by a cube-map camera) and
+    /// leaves it on the GPU.
+    pub fn render_cubemap(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+        face: u32,
+    ) -> Result<GpuFrame, RenderError> {
+        let mut s = scene.clone();
+        s.camera = Camera {
+            projection: Projection::Cubemap,
+            width: face,
+            height: face,
+            ..s.camera
+        };
+        self.render_frame(&s, state)
+    }
+
+    /// Renders one frame into a new target texture, leaving it on the GPU.
+    pub fn render_frame(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+    ) -> Result<GpuFrame, RenderError> {
+        scene
+            .validate()
+            .map_err(|e| RenderError::Scene(e.field, e.message))?;
+        // Night passes invisible at this exposure are culled as on the CPU
+        // (they are not ported yet, so this decides whether the frame can
+        // be rendered here at all: e.g. no stars at noon).
+        let culled = self.cpu.night_culling(scene, state);
+        let culled_reason = |e: Effect| culled.iter().find(|c| c.0 == e).map(|c| c.1.clone());
+        for p in state.passes.iter().filter(|p| p.run) {
+            if culled_reason(p.effect).is_some() {
+                continue;
+            }
+            if !matches!(p.effect, Effect::Atmosphere | Effect::Sun) {
+                // Unavailable: `--backend auto` then falls back to the CPU.
+                return Err(RenderError::Unavailable(format!(
+                    "the {} pass is not yet available in the wgpu backend",
+                    p.effect.name()
+                )));
+            }
+        }
+        let cam = scene.camera;
+        let (w, h) = cam.image_size();
+        let cube = cam.projection == Projection::Cubemap;
+        let (tw, layers) = if cube { (h, 6) } else { (w, 1) };
+        let limits = self.device.limits();
+        // The accumulation buffer holds a band of rows within the buffer limits.
+        let row_bytes = w as u64 * 16;
+        let max_bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
+            .min(self.max_band_bytes.unwrap_or(u64::MAX));
+        if tw.max(h) > limits.max_texture_dimension_2d || row_bytes > max_bytes {
+            return Err(RenderError::Unavailable(format!(
+                "a {w}×{h} image exceeds this wgpu adapter's limits ({} px per side)",
+                limits.max_texture_dimension_2d,
+            )));
+        }
+        let band_rows = (max_bytes / row_bytes).min(h as u64).max(1) as u32;
+        let bands: Vec<(u32, u32)> = (0..h.div_ceil(band_rows))
+            .map(|b| (b * band_rows, band_rows.min(h - b * band_rows)))
+            .collect();
+        let sun_dir = state.sun.dir().as_vec3().normalize();
+        let atmosphere = state.runs(Effect::Atmosphere);
+
+        // The LUTs (CPU precompute or cache); the sky view on the GPU
+        // (default) or on the CPU, uploaded. `sky` holds the sky-view LUT,
+        // then the ground luminance.
+        let mut precompute_ms = 0.0;
+        let mut lut_source = "none";
+        let mut sky_view_ms = 0.0;
+        let (mut sky_w, mut sky_h) = (1u32, 1u32);
+        let mut sky = None;
+        if atmosphere {
+            let tp = Clock::now();
+            let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
+            lut_source = source;
+            let input = SkyViewInput {
+                observer_altitude_km: state.observer_altitude_km as f32,
+                sun_sin_elevation: sun_dir.z,
+                irradiance_scale: state.sun.sky_irradiance_scale() as f32,
+            };
+            sky_w = luts.config.sky_view_w as u32;
+            sky_h = luts.config.sky_view_h as u32;
+            if self.sky_view_on_gpu {
+                let gl = upload_luts(&self.device, &mut self.gpu_luts, luts);
+                precompute_ms = ms(tp);
+                let tsv = Clock::now();
+                sky = Some(gpu_sky_view(
+                    &self.device,
+                    &self.queue,
+                    &self.skyview,
+                    gl,
+                    luts,
+                    &input,
+                )?);
+                sky_view_ms = ms(tsv);
+            } else {
+                precompute_ms = ms(tp);
+                let tsv = Clock::now();
+                let sv = himmel_cpu::sky_view(luts, &input);
+                let mut rgba: Vec<[f32; 4]> = sv
+                    .lut
+                    .data
+                    .iter()
+                    .map(|p| [p[0], p[1], p[2], 0.0])
+                    .collect();
+                let g = sv.ground_rgb;
+                rgba.push([g[0], g[1], g[2], 0.0]);
+                sky = Some(
+                    self.device
+                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                            label: Some("sky view"),
+                            contents: bytemuck::cast_slice(&rgba),
+                            usage: wgpu::BufferUsages::STORAGE,
+                        }),
+                );
+                sky_view_ms = ms(tsv);
+            }
+        }
+        let sky = match sky {
+            Some(b) => b,
+            None => self
+                .device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("no sky"),
+                    contents: bytemuck::cast_slice(&[[0.0f32; 4]; 2]),
+                    usage: wgpu::BufferUsages::STORAGE,
+                }),
+        };
+        // The drawn radius as SunDisk clamps it.
+        let radius = (state.sun.angular_radius * scene.sun_scale).clamp(1e-6, 0.5);
+        let margin = (radius + 1.5 * cam.max_pixel_angle()).min(3.0);
+        let (sun_table, z_range) = if state.runs(Effect::Sun) {
+            let luts = if atmosphere {
+                Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
+            } else {
+                None
+            };
+            sun_table(
+                sun_dir.z as f64,
+                radius,
+                state.sun.irradiance_scale,
+                luts,
+                state.observer_altitude_km as f32,
+            )
+        } else {
+            (vec![[0.0; 4]; SUN_TABLE_RHO * SUN_TABLE_Z], [0.0, 1.0])
+        };
+
+        let sun_rect = sun_rect(&cam, state.sun.dir().normalize(), margin);
+        let (f, r, u, t) = perspective_basis(&cam);
+        let code = match cam.projection {
+            Projection::Fisheye => projection_code::FISHEYE,
+            Projection::Equirect => projection_code::EQUIRECT,
+            Projection::Perspective => projection_code::PERSPECTIVE,
+            Projection::Cubemap => projection_code::CUBEMAP,
+        };
+        let frame = FrameUniforms {
+            size: [w, h, code, h],
+            persp_f: [f.x as f32, f.y as f32, f.z as f32, t as f32],
+            persp_r: [r.x as f32, r.y as f32, r.z as f32, 0.0],
+            persp_u: [u.x as f32, u.y as f32, u.z as f32, 0.0],
+            sun: [sun_dir.x, sun_dir.y, sun_dir.z, margin.cos() as f32],
+            disk: [
+                radius.cos() as f32,
+                radius.sin() as f32,
+                z_range[0],
+                z_range[1],
+            ],
+            tables: [sky_w, sky_h, SUN_TABLE_RHO as u32, SUN_TABLE_Z as u32],
+            opts: [
+                himmel_cpu::SUN_SUPERSAMPLING as u32,
+                sun_rect.0,
+                sun_rect.1,
+                0,
+            ],
+            band: [0, h, 0, 0],
+        };
+
+        let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let dev = &self.device;
+        // One uniform per band: its rows and its part of the Sun's rectangle.
+        let band_frames: Vec<FrameUniforms> = bands
+            .iter()
+            .map(|&(row0, rows)| {
+                let y0 = sun_rect.1.clamp(row0, row0 + rows);
+                FrameUniforms {
+                    opts: [frame.opts[0], sun_rect.0, y0, 0],
+                    band: [row0, rows, 0, 0],
+                    ..frame
+                }
+            })
+            .collect();
+        let accum = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("accum"),
+            size: row_bytes * band_rows as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let sun_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("sun table"),
+            contents: bytemuck::cast_slice(&sun_table),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let texture = dev.create_texture(&wgpu::TextureDescriptor {
+            label: Some(if cube {
+                "himmel cube map"
+            } else {
+                "himmel frame"
+            }),
+            size: wgpu::Extent3d {
+                width: tw,
+                height: h,
+                depth_or_array_layers: layers,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: TARGET_FORMAT,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING
+                | wgpu::TextureUsages::STORAGE_BINDING
+                | wgpu::TextureUsages::COPY_SRC,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let binds: Vec<wgpu::BindGroup> = band_frames
+            .iter()
+            .map(|bf| {
+                let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("frame"),
+                    contents: bytemuck::bytes_of(bf),
+                    usage: wgpu::BufferUsages::UNIFORM,
+                });
+                dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some("sky"),
+                    layout: &self.pipelines.layout,
+                    entries: &[
+                        wgpu::BindGroupEntry {
+                            binding: 0,
+                            resource: uniform.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 1,
+                            resource: accum.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 2,
+                            resource: sky.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 3,
+                            resource: sun_buf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 4,
+                            resource: wgpu::BindingResource::TextureView(&view),
+                        },
+                    ],
+                })
+            })
+            .collect();
+        // Passes back to front, then `store`, band by band.
+        let mut runs: Vec<(String, &wgpu::ComputePipeline, bool)> = Vec::new();
+        let mut stats = Vec::new();
+        for planned in &state.passes {
+            let culled = culled_reason(planned.effect);
+            let run = planned.run && culled.is_none();
+            if run {
+                let (p, is_sun) = match planned.effect {
+                    Effect::Atmosphere => (&self.pipelines.atmosphere, false),
+                    _ => (&self.pipelines.sun, true),
+                };
+                runs.push((planned.effect.name().into(), p, is_sun));
+            }
+            stats.push(PassStat {
+                name: planned.effect.name().into(),
+                ran: run,
+                ms: None,
+                reason: planned.reason.clone().or(culled),
+            });
+        }
+        runs.push(("store".into(), &self.pipelines.store, false));
+        let n_runs = runs.len();
+        let queries = self.timestamps.then(|| {
+            dev.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass times"),
+                ty: wgpu::QueryType::Timestamp,
+                count: (2 * n_runs * bands.len()) as u32,
+            })
+        });
+        // With timestamps every pass goes into one submission; without,
+        // each pass is submitted and awaited so that the CPU clock times it.
+        let mut enc = dev.create_command_encoder(&Default::default());
+        let mut cpu_ms = vec![0.0; n_runs];
+        for (b, &(row0, rows)) in bands.iter().enumerate() {
+            enc.clear_buffer(&accum, 0, None);
+            for (k, (name, pipeline, is_sun)) in runs.iter().enumerate() {
+                let g = if *is_sun {
+                    let y0 = band_frames[b].opts[2];
+                    let y1 = sun_rect.3.clamp(row0, row0 + rows);
+                    (
+                        (sun_rect.2 - sun_rect.0).div_ceil(8),
+                        y1.saturating_sub(y0).div_ceil(8),
+                    )
+                } else {
+                    (w.div_ceil(8), rows.div_ceil(8))
+                };
+                let q = 2 * (b * n_runs + k) as u32;
+                let t0 = Clock::now();
+                {
+                    let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                        label: Some(name),
+                        timestamp_writes: queries.as_ref().map(|qs| {
+                            wgpu::ComputePassTimestampWrites {
+                                query_set: qs,
+                                beginning_of_pass_write_index: Some(q),
+                                end_of_pass_write_index: Some(q + 1),
+                            }
+                        }),
+                    });
+                    pass.set_pipeline(pipeline);
+                    pass.set_bind_group(0, &binds[b], &[]);
+                    pass.dispatch_workgroups(g.0, g.1, 1);
+                }
+                if queries.is_none() {
+                    let done = std::mem::replace(
+                        &mut enc,
+                        dev.create_command_encoder(&Default::default()),
+                    );
+                    self.queue.submit([done.finish()]);
+                    self.wait()?;
+                    cpu_ms[k] += ms(t0);
+                }
+            }
+        }
+        self.queue.submit([enc.finish()]);
+        let gpu_ms = match &queries {
+            Some(qs) => {
+                let t = self.read_timestamps(qs, n_runs * bands.len())?;
+                let mut sum = vec![0.0; n_runs];
+                for (i, v) in t.iter().enumerate() {
+                    sum[i % n_runs] += v;
+                }
+                Some(sum)
+            }
+            None => None,
+        };
+        let times = gpu_ms.unwrap_or(cpu_ms);
+        for (s, t) in stats.iter_mut().filter(|s| s.ran).zip(&times) {
+            s.ms = Some(*t);
+        }
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Other(format!("wgpu: {e}")));
+        }
+        Ok(GpuFrame {
+            texture,
+            width: w,
+            height: h,
+            cube,
+            passes: stats,
+            precompute_ms,
+            lut_source,
+            sky_view_ms,
+        })
+    }
+
+    fn wait(&self) -> Result<(), RenderError> {
+        self.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))
+    }
+
+    /// Maps `buffer` (MAP_READ) and returns its bytes.
+    fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> {
+        let slice = buffer.slice(..);
+        let (tx, rx) = std::sync::mpsc::channel();
+        slice.map_async(wgpu::MapMode::Read, move |r| {
+            let _ = tx.send(r);
+        });
+        self.wait()?;
+        rx.recv()
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
+        let bytes = slice
+            .get_mapped_range()
+            .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?
+            .to_vec();
+        buffer.unmap();
+        Ok(bytes)
+    }
+
+    fn read_timestamps(&self, q: &wgpu::QuerySet, n: usize) -> Result<Vec<f64>, RenderError> {
+        let size = (2 * n * 8) as u64;
+        let resolve = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps"),
+            size,
+            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let read = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("timestamps read"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.resolve_query_set(q, 0..2 * n as u32, &resolve, 0);
+        enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, size);
+        self.queue.submit([enc.finish()]);
+        let bytes = self.map_read(&read)?;
+        let ticks: &[u64] = bytemuck::cast_slice(&bytes);
+        let period = self.queue.get_timestamp_period() as f64;
+        Ok((0..n)
+            .map(|k| ticks[2 * k + 1].wrapping_sub(ticks[2 * k]) as f64 * period * 1e-6)
+            .collect())
+    }
+
+    /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H
+    /// strip): rows padded to 256 bytes on the GPU side.
+    pub fn read_back(&self, frame: &GpuFrame) -> Result<HdrImage, RenderError> {
+        let size = frame.texture.size();
+        let (tw, th, layers) = (size.width, size.height, size.depth_or_array_layers);
+        let row = tw as u64 * 16;
+        let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64)
+            * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
+        let read = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame read"),
+            size: padded * th as u64 * layers as u64,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_buffer(
+            frame.texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &read,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(padded as u32),
+                    rows_per_image: Some(th),
+                },
+            },
+            size,
+        );
+        self.queue.submit([enc.finish()]);
+        let bytes = self.map_read(&read)?;
+        let texels: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+        let (w, h) = (frame.width as usize, frame.height as usize);
+        let stride = padded as usize / 16;
+        let mut pixels = vec![[0.0f32; 3]; w * h];
+        let mut valid = vec![false; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let (layer, lx) = if frame.cube { (x / h, x % h) } else { (0, x) };
+                let t = texels[(layer * th as usize + y) * stride + lx];
+                pixels[y * w + x] = [t[0], t[1], t[2]];
+                valid[y * w + x] = t[3] > 0.5;
+            }
+        }
+        Ok(HdrImage {
+            width: w,
+            height: h,
+            pixels,
+            valid,
+        })
+    }
+}
+
+fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Storage { read_only },
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn skyview_pipelines(device: &wgpu::Device) -> SkyViewPipelines {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("skyview.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(SKYVIEW_WGSL.into()),
+    });
+    let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sky view"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                binding: 0,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: wgpu::BufferSize::new(
+                        std::mem::size_of::<AtmosphereUniforms>() as u64,
+                    ),
+                },
+                count: None,
+            },
+            storage_entry(1, true),
+            storage_entry(2, true),
+            storage_entry(3, true),
+            storage_entry(4, false),
+        ],
+    });
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("sky view"),
+        bind_group_layouts: &[Some(&layout)],
+        immediate_size: 0,
+    });
+    let pipeline = |entry: &str| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    };
+    SkyViewPipelines {
+        sky_view: pipeline("sky_view"),
+        ground: pipeline("ground"),
+        layout,
+    }
+}
+
+/// A spectrum as three vec4 band groups (the last two lanes zero).
+fn band_groups(s: &Spectrum) -> [[f32; 4]; 3] {
+    let mut g = [[0.0f32; 4]; 3];
+    for (b, v) in s.0.iter().enumerate() {
+        g[b / 4][b % 4] = *v;
+    }
+    g
+}
+
+fn lut_groups(l: &himmel_skymodel::atmosphere::lut::Lut2<Spectrum>) -> Vec<[f32; 4]> {
+    l.data.iter().flat_map(band_groups).collect()
+}
+
+/// Uploads the parameter-dependent LUTs unless they are already on the GPU.
+fn upload_luts<'a>(
+    device: &wgpu::Device,
+    slot: &'a mut Option<GpuLuts>,
+    luts: &AtmosphereLuts,
+) -> &'a GpuLuts {
+    if let Some(g) = slot.take() {
+        if g.params == luts.params && g.config == luts.config {
+            return slot.insert(g);
+        }
+    }
+    let buf = |label, l| {
+        device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(&lut_groups(l)),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+    };
+    slot.insert(GpuLuts {
+        params: luts.params.clone(),
+        config: luts.config,
+        trans: buf("transmittance", &luts.transmittance),
+        trans_s: buf("scattering transmittance", &luts.scattering_transmittance),
+        multi: buf("multiple scattering", &luts.multiscatter),
+    })
+}
+
+/// The uniforms of the GPU sky view (lut.rs `SkyView::row` inputs).
+pub fn atmosphere_uniforms(luts: &AtmosphereLuts, input: &SkyViewInput) -> AtmosphereUniforms {
+    let m = &luts.medium;
+    let cfg = &luts.config;
+    let weights = himmel_skymodel::spectrum::BandWeights::solar();
+    let mut w = [[[0.0f32; 4]; 3]; 3];
+    for (b, rgb) in weights.rgb.iter().enumerate() {
+        for c in 0..3 {
+            w[c][b / 4][b % 4] = rgb[c];
+        }
+    }
+    let r0 = m.bottom
+        + input
+            .observer_altitude_km
+            .clamp(0.0, m.top - m.bottom - 0.01);
+    let sun = himmel_skymodel::atmosphere::SkyView::sun_local(input.sun_sin_elevation);
+    AtmosphereUniforms {
+        rayleigh: band_groups(&m.rayleigh),
+        mie_scattering: band_groups(&m.mie_scattering),
+        mie_extinction: band_groups(&m.mie_extinction),
+        ozone: band_groups(&m.ozone),
+        forward: band_groups(&luts.forward),
+        w_r: w[0],
+        w_g: w[1],
+        w_b: w[2],
+        s0: [m.bottom, m.top, m.inv_h_r, m.inv_h_m],
+        s1: [m.ozone_peak, m.inv_ozone_w, m.g, m.albedo],
+        s2: [
+            m.sun_angular_radius,
+            r0,
+            cfg.forward_peak_deg.to_radians().cos(),
+            if cfg.forward_peak_deg > 0.0 { 1.0 } else { 0.0 },
+        ],
+        sun: [sun.x, sun.y, sun.z, input.irradiance_scale],
+        dims: [
+            luts.transmittance.w as u32,
+            luts.transmittance.h as u32,
+            luts.multiscatter.w as u32,
+            cfg.sky_view_steps as u32,
+        ],
+        dims2: [cfg.sky_view_w as u32, cfg.sky_view_h as u32, 0, 0],
+    }
+}
+
+/// Computes the sky-view LUT and the ground luminance on the GPU; returns
+/// the buffer (w × h texels, then the ground), after completion.
+fn gpu_sky_view(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    p: &SkyViewPipelines,
+    gl: &GpuLuts,
+    luts: &AtmosphereLuts,
+    input: &SkyViewInput,
+) -> Result<wgpu::Buffer, RenderError> {
+    let u = atmosphere_uniforms(luts, input);
+    let (w, h) = (u.dims2[0], u.dims2[1]);
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("atmosphere"),
+        contents: bytemuck::bytes_of(&u),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let sky = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sky view"),
+        size: (w as u64 * h as u64 + 1) * 16,
+        usage: wgpu::BufferUsages::STORAGE,
+        mapped_at_creation: false,
+    });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sky view"),
+        layout: &p.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: gl.trans.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: gl.trans_s.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: gl.multi.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: sky.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sky view"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&p.sky_view);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+    }
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("ground"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&p.ground);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+    }
+    queue.submit([enc.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
+    Ok(sky)
+}
+
+/// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose
+/// centre lies within `margin` (rad) of the Sun's direction `sun` (ENU,
+/// unit): the bounding box of 64 directions on the margin's circle (and
+/// the centre) through `Camera::dir_to_pixel`, padded by 2 px; the whole
+/// image for cube maps, wide margins, circles through a pole of an
+/// equirect image or across its 0°/360° seam, and directions a perspective
+/// camera cannot project.
+pub fn sun_rect(cam: &Camera, sun: DVec3, margin: f64) -> (u32, u32, u32, u32) {
+    use std::f64::consts::{FRAC_PI_2, PI, TAU};
+    let (w, h) = cam.image_size();
+    let full = (0, 0, w, h);
+    if cam.projection == Projection::Cubemap || margin > 0.5 {
+        return full;
+    }
+    let m = margin * 1.05;
+    let alt = sun.z.clamp(-1.0, 1.0).asin();
+    if cam.projection == Projection::Fisheye && FRAC_PI_2 - alt + m >= PI {
+        return full;
+    }
+    let a = if sun.z.abs() < 0.9 {
+        DVec3::Z
+    } else {
+        DVec3::X
+    };
+    let e1 = sun.cross(a).normalize();
+    let e2 = sun.cross(e1);
+    let (mut x0, mut y0, mut x1, mut y1) = (f64::MAX, f64::MAX, f64::MIN, f64::MIN);
+    let (sm, cm) = m.sin_cos();
+    for k in 0..=64 {
+        let d = if k == 64 {
+            sun
+        } else {
+            let phi = TAU * k as f64 / 64.0;
+            sun * cm + (e1 * phi.cos() + e2 * phi.sin()) * sm
+        };
+        let Some((x, y)) = cam.dir_to_pixel(d) else {
+            return full;
+        };
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    if cam.projection == Projection::Equirect {
+        if x1 - x0 > w as f64 / 2.0 || alt + m >= FRAC_PI_2 || alt - m <= -FRAC_PI_2 {
+            x0 = 0.0;
+            x1 = w as f64;
+        }
+        if alt + m >= FRAC_PI_2 {
+            y0 = 0.0;
+        }
+        if alt - m <= -FRAC_PI_2 {
+            y1 = h as f64;
+        }
+    }
+    let clamp_x = |v: f64| v.clamp(0.0, w as f64) as u32;
+    let clamp_y = |v: f64| v.clamp(0.0, h as f64) as u32;
+    let (rx0, ry0) = (clamp_x((x0 - 2.0).floor()), clamp_y((y0 - 2.0).floor()));
+    let (rx1, ry1) = (clamp_x((x1 + 2.0).ceil()), clamp_y((y1 + 2.0).ceil()));
+    (rx0, ry0, rx1.max(rx0), ry1.max(ry0))
+}
+
+/// The perspective camera's basis (ENU: forward, right, up) and
+/// tan(fov / 2), as projection.rs builds it.
+fn perspective_basis(cam: &Camera) -> (DVec3, DVec3, DVec3, f64) {
+    let (yaw, pitch) = (cam.yaw_deg.to_radians(), cam.pitch_deg.to_radians());
+    let f = himmel_skymodel::projection::enu_from_alt_az(pitch, yaw);
+    let right = DVec3::new(yaw.cos(), -yaw.sin(), 0.0);
+    let up = right.cross(f);
+    (f, right, up, (cam.fov_deg.to_radians() / 2.0).tan())
+}
+
+/// The Sun table: linear sRGB radiance (cd/m²) of a disk of angular
+/// radius `radius` (rad) carrying `irradiance_scale` × the 1 AU solar
+/// irradiance, centred at zenith cosine `centre_z`, at normalised radius
+/// ρ = i/(n−1) and line-of-sight zenith cosine z over the disk's range:
+/// each node is the exact `SunDisk::radiance_rgb` after the transmittance
+/// `luts.sun_transmittance(r0, z)` (none without the atmosphere). Returns
+/// the table (row-major, z rows of ρ) and [z_min, z_max].
+pub fn sun_table(
+    centre_z: f64,
+    radius: f64,
+    irradiance_scale: f64,
+    luts: Option<&AtmosphereLuts>,
+    observer_altitude_km: f32,
+) -> (Vec<[f32; 4]>, [f32; 2]) {
+    let alt = centre_z.clamp(-1.0, 1.0).asin();
+    let half = std::f64::consts::FRAC_PI_2;
+    let pad = radius * 0.02 + 1e-6;
+    let z0 = (alt - radius - pad).max(-half).sin();
+    let z1 = (alt + radius + pad).min(half).sin();
+    // The same disk about the zenith: ρ only enters through |d × c|.
+    let probe = SunDisk::new(Vec3::Z, radius, irradiance_scale);
+    let sr = (probe.radius as f64).sin();
+    let r0 = luts.map(|l| l.medium.bottom + observer_altitude_km);
+    let mut out = Vec::with_capacity(SUN_TABLE_RHO * SUN_TABLE_Z);
+    for j in 0..SUN_TABLE_Z {
+        let z = z0 + (z1 - z0) * j as f64 / (SUN_TABLE_Z - 1) as f64;
+        let t = match (luts, r0) {
+            (Some(l), Some(r0)) => l.sun_transmittance(r0, z as f32),
+            _ => Spectrum::ONE,
+        };
+        for i in 0..SUN_TABLE_RHO {
+            let rho = (i as f64 / (SUN_TABLE_RHO - 1) as f64).min(1.0 - 1e-6);
+            let g = (rho * sr).asin();
+            let dir = Vec3::new(g.sin() as f32, 0.0, g.cos() as f32);
+            let rgb = if probe.covers(dir) {
+                probe.radiance_rgb(dir, &t)
+            } else {
+                [0.0; 3]
+            };
+            out.push([rgb[0], rgb[1], rgb[2], 0.0]);
+        }
+    }
+    (out, [z0 as f32, z1 as f32])
+}
+
+impl SkyRenderer for WgpuRenderer {
+    fn name(&self) -> &'static str {
+        "wgpu"
+    }
+
+    fn render(&mut self, scene: &Scene, state: &SkyState) -> Result<RenderOutput, RenderError> {
+        let frame = self.render_frame(scene, state)?;
+        let image = self.read_back(&frame)?;
+        Ok(RenderOutput {
+            image,
+            passes: frame.passes,
+            precompute_ms: frame.precompute_ms,
+            lut_source: frame.lut_source,
+            geometry_ms: 0.0,
+            sky_view_ms: frame.sky_view_ms,
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use himmel_skymodel::projection::enu_from_alt_az;
+
+    /// Every pixel centre within the margin of the Sun lies in the Sun
+    /// pass's rectangle: equirect seam and poles, fisheye horizon and
+    /// zenith, perspective edges (brute force over all pixel centres).
+    #[test]
+    fn sun_rect_holds_every_pixel_within_the_margin() {
+        let cams = [
+            (Projection::Equirect, 256, 128, 0.0, 0.0),
+            (Projection::Fisheye, 128, 128, 0.0, 0.0),
+            (Projection::Perspective, 160, 96, 10.0, 20.0),
+        ];
+        let suns = [
+            (0.5, 0.0),
+            (0.5, 359.5),
+            (89.0, 120.0),
+            (-1.0, 300.0),
+            (20.0, 180.0),
+            (30.0, 40.0),
+            (-89.5, 10.0),
+        ];
+        for (p, w, h, yaw, pitch) in cams {
+            let cam = Camera {
+                projection: p,
+                width: w,
+                height: h,
+                yaw_deg: yaw,
+                pitch_deg: pitch,
+                fov_deg: 90.0,
+            };
+            for (alt, az) in suns {
+                let sun = enu_from_alt_az(f64::to_radians(alt), f64::to_radians(az));
+                let margin = 0.004_65 + 1.5 * cam.max_pixel_angle();
+                let (x0, y0, x1, y1) = sun_rect(&cam, sun, margin);
+                let mut inside = 0;
+                for y in 0..h {
+                    for x in 0..w {
+                        let Some(d) = cam.pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5) else {
+                            continue;
+                        };
+                        if d.dot(sun) >= margin.cos() {
+                            inside += 1;
+                            assert!(
+                                (x0..x1).contains(&x) && (y0..y1).contains(&y),
+                                "{p:?} Sun ({alt}, {az}): pixel ({x}, {y}) outside {:?}",
+                                (x0, y0, x1, y1)
+                            );
+                        }
+                    }
+                }
+                // The rectangle is tight when it is not the whole image.
+                if (x0, y0, x1, y1) != (0, 0, w, h) {
+                    assert!(inside > 0 || (x1 - x0) * (y1 - y0) < w * h / 4);
+                }
+            }
+        }
+    }
+}

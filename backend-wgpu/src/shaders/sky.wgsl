@@ -1,0 +1,242 @@
+// Himmel wgpu backend: the sky passes as compute shaders.
+//
+// Every pass adds its radiance (linear sRGB, cd/m²) into `accum`, one
+// vec4 per pixel of the image (a cube map is the 6H×H strip of
+// conventions.md), back to front; `store` then writes the sum into the
+// rgba32float target texture (one layer, or six cube faces), alpha = 1
+// where the projection shows the scene. New passes (Moon, stars, planets,
+// Milky Way) are further entry points of the same shape.
+//
+// The Rust mirror of `Frame` is `FrameUniforms` (src/uniforms.rs); a test
+// checks the layout naga computes for this struct against it.
+
+struct Frame {
+    // image width, height (the strip for a cube map), projection
+    // (0 fisheye, 1 equirect, 2 perspective, 3 cubemap), cube face size
+    size: vec4<u32>,
+    // perspective basis (ENU): forward (w: tan(fov/2)), right, up
+    persp_f: vec4<f32>,
+    persp_r: vec4<f32>,
+    persp_u: vec4<f32>,
+    // Sun centre (ENU unit), w: cos of the supersampling margin
+    sun: vec4<f32>,
+    // disk: cos(radius), sin(radius), z_min, z_max of the Sun table
+    disk: vec4<f32>,
+    // sky-view LUT width, height; Sun table ρ nodes, z nodes
+    tables: vec4<u32>,
+    // Sun sub-samples per axis; first pixel (x, y) of the Sun dispatch; 0
+    opts: vec4<u32>,
+    // the band of rows this dispatch renders: first row, row count
+    // (`accum` holds the band; frames beyond the buffer limits are banded)
+    band: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> frame: Frame;
+@group(0) @binding(1) var<storage, read_write> accum: array<vec4<f32>>;
+// the sky-view LUT (w × h texels), then the ground luminance below the horizon
+@group(0) @binding(2) var<storage, read> sky: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> sun_table: array<vec4<f32>>;
+@group(0) @binding(4) var target_tex: texture_storage_2d_array<rgba32float, write>;
+
+const PI: f32 = 3.14159265358979;
+const HALF_PI: f32 = 1.57079632679490;
+const TAU: f32 = 6.28318530717959;
+
+fn enu_from_alt_az(alt: f32, az: f32) -> vec3<f32> {
+    let ca = cos(alt);
+    return vec3<f32>(ca * sin(az), ca * cos(az), sin(alt));
+}
+
+// The ENU direction at continuous image position (px, py), projection.rs
+// `Camera::pixel_to_dir` in f32; w = 1 where the projection shows the
+// scene, 0 outside (fisheye beyond 180° from the zenith).
+fn pixel_dir(px: f32, py: f32) -> vec4<f32> {
+    let w = f32(frame.size.x);
+    let h = f32(frame.size.y);
+    let p = frame.size.z;
+    if (p == 0u) {
+        let dx = px - w * 0.5;
+        let dy = py - h * 0.5;
+        let r = min(w, h) * 0.5;
+        let rho = sqrt(dx * dx + dy * dy);
+        let zen = HALF_PI * rho / r;
+        if (zen > PI) {
+            return vec4<f32>(0.0);
+        }
+        if (rho <= 0.0) {
+            return vec4<f32>(0.0, 0.0, 1.0, 1.0);
+        }
+        let s = sin(zen);
+        return vec4<f32>(-dx / rho * s, -dy / rho * s, cos(zen), 1.0);
+    } else if (p == 1u) {
+        let az = TAU * px / w;
+        let alt = clamp(HALF_PI - PI * py / h, -HALF_PI, HALF_PI);
+        return vec4<f32>(enu_from_alt_az(alt, az), 1.0);
+    } else if (p == 2u) {
+        let t = frame.persp_f.w;
+        let nx = (px - w * 0.5) / (h * 0.5) * t;
+        let ny = -(py - h * 0.5) / (h * 0.5) * t;
+        let d = frame.persp_f.xyz + frame.persp_r.xyz * nx + frame.persp_u.xyz * ny;
+        return vec4<f32>(normalize(d), 1.0);
+    }
+    // Cube map strip: OpenGL face table (major axis, sc, tc) in the scene
+    // frame (x East, y Up, z South), faces +X −X +Y −Y +Z −Z.
+    let fs = f32(frame.size.w);
+    let face = clamp(i32(floor(px / fs)), 0, 5);
+    let s = (px - f32(face) * fs) / fs;
+    let t = py / fs;
+    let sc = 2.0 * s - 1.0;
+    let tc = 2.0 * t - 1.0;
+    var v: vec3<f32>;
+    switch face {
+        case 0: { v = vec3<f32>(1.0, -tc, -sc); }
+        case 1: { v = vec3<f32>(-1.0, -tc, sc); }
+        case 2: { v = vec3<f32>(sc, 1.0, tc); }
+        case 3: { v = vec3<f32>(sc, -1.0, -tc); }
+        case 4: { v = vec3<f32>(sc, -tc, 1.0); }
+        default: { v = vec3<f32>(-sc, -tc, -1.0); }
+    }
+    v = normalize(v);
+    // Scene frame → ENU.
+    return vec4<f32>(v.x, -v.z, v.y, 1.0);
+}
+
+// Bruneton (2017) GetTextureCoordFromUnitRange (lut.rs `tex_from_unit`).
+fn tex_from_unit(x: f32, n: u32) -> f32 {
+    let nf = f32(n);
+    return 0.5 / nf + x * (1.0 - 1.0 / nf);
+}
+
+// Bilinear lookup of the sky-view LUT at (u, v) ∈ [0, 1]² with texel
+// centres at (i + 0.5)/n, clamped (lut.rs `Lut2::sample_rgb`).
+fn sky_sample(u: f32, v: f32) -> vec3<f32> {
+    let w = frame.tables.x;
+    let h = frame.tables.y;
+    let x = clamp(u * f32(w) - 0.5, 0.0, f32(w - 1u));
+    let y = clamp(v * f32(h) - 0.5, 0.0, f32(h - 1u));
+    let x0 = u32(x);
+    let y0 = u32(y);
+    let x1 = min(x0 + 1u, w - 1u);
+    let y1 = min(y0 + 1u, h - 1u);
+    let fx = x - f32(x0);
+    let fy = y - f32(y0);
+    let a = mix(sky[y0 * w + x0].xyz, sky[y0 * w + x1].xyz, fx);
+    let b = mix(sky[y1 * w + x0].xyz, sky[y1 * w + x1].xyz, fx);
+    return mix(a, b, fy);
+}
+
+// Sky radiance for an ENU direction (lut.rs `SkyView::radiance`): azimuth
+// from the Sun (0–180°, linear) × √(elevation / 90°); the ground below the
+// horizon.
+fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
+    if (dir.z < 0.0) {
+        return sky[frame.tables.x * frame.tables.y].xyz;
+    }
+    let sun = frame.sun.xyz;
+    let e = asin(min(dir.z, 1.0));
+    let cr = dir.x * sun.y - dir.y * sun.x;
+    let dt = dir.x * sun.x + dir.y * sun.y;
+    var az = 0.0;
+    if (cr != 0.0 || dt != 0.0) {
+        az = atan2(abs(cr), dt);
+    }
+    let u = tex_from_unit(az / PI, frame.tables.x);
+    let v = tex_from_unit(sqrt(e / HALF_PI), frame.tables.y);
+    return sky_sample(u, v);
+}
+
+// The Sun table: linear sRGB radiance (cd/m²) of the disk at normalised
+// disk radius ρ = sin γ / sin R (nodes i/(n−1)) and line-of-sight zenith
+// cosine z (nodes from z_min to z_max), limb darkening × transmittance.
+fn sun_sample(rho: f32, z: f32) -> vec3<f32> {
+    let nr = frame.tables.z;
+    let nz = frame.tables.w;
+    let x = clamp(rho, 0.0, 1.0) * f32(nr - 1u);
+    let span = max(frame.disk.w - frame.disk.z, 1e-12);
+    let y = clamp((z - frame.disk.z) / span, 0.0, 1.0) * f32(nz - 1u);
+    let x0 = min(u32(x), nr - 1u);
+    let y0 = min(u32(y), nz - 1u);
+    let x1 = min(x0 + 1u, nr - 1u);
+    let y1 = min(y0 + 1u, nz - 1u);
+    let fx = x - f32(x0);
+    let fy = y - f32(y0);
+    let a = mix(sun_table[y0 * nr + x0].xyz, sun_table[y0 * nr + x1].xyz, fx);
+    let b = mix(sun_table[y1 * nr + x0].xyz, sun_table[y1 * nr + x1].xyz, fx);
+    return mix(a, b, fy);
+}
+
+fn inside(gid: vec3<u32>) -> bool {
+    return gid.x < frame.size.x && gid.y < frame.band.y;
+}
+
+// Atmosphere pass: one sky-view lookup per pixel centre.
+@compute @workgroup_size(8, 8, 1)
+fn atmosphere(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (!inside(gid)) {
+        return;
+    }
+    let d = pixel_dir(f32(gid.x) + 0.5, f32(gid.y + frame.band.x) + 0.5);
+    if (d.w == 0.0) {
+        return;
+    }
+    let i = gid.y * frame.size.x + gid.x;
+    accum[i] = accum[i] + vec4<f32>(sky_radiance(d.xyz), 0.0);
+}
+
+// Sun pass: pixels within the margin of the disk are supersampled
+// (n × n sub-pixel directions), as the CPU backend does. Dispatched over the
+// pixel rectangle that holds the margin, from (opts.y, opts.z).
+@compute @workgroup_size(8, 8, 1)
+fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = gid.x + frame.opts.y;
+    let py = gid.y + frame.opts.z;
+    if (px >= frame.size.x || py >= frame.band.x + frame.band.y) {
+        return;
+    }
+    let d = pixel_dir(f32(px) + 0.5, f32(py) + 0.5);
+    let c = frame.sun.xyz;
+    if (d.w == 0.0 || dot(d.xyz, c) < frame.sun.w) {
+        return;
+    }
+    let n = frame.opts.x;
+    let inv = 1.0 / f32(n);
+    var acc = vec3<f32>(0.0);
+    for (var sj = 0u; sj < n; sj = sj + 1u) {
+        for (var si = 0u; si < n; si = si + 1u) {
+            let sx = f32(px) + (f32(si) + 0.5) * inv;
+            let sy = f32(py) + (f32(sj) + 0.5) * inv;
+            let s4 = pixel_dir(sx, sy);
+            if (s4.w == 0.0) {
+                continue;
+            }
+            let sd = s4.xyz;
+            // The ground hides the disk below the horizon.
+            if (sd.z < 0.0 || dot(sd, c) < frame.disk.x) {
+                continue;
+            }
+            let rho = min(length(cross(sd, c)) / frame.disk.y, 1.0);
+            acc = acc + sun_sample(rho, sd.z);
+        }
+    }
+    let i = (py - frame.band.x) * frame.size.x + px;
+    accum[i] = accum[i] + vec4<f32>(acc * (inv * inv), 0.0);
+}
+
+// Writes the accumulated radiance into the target (cube maps: face =
+// strip column / face size), alpha = 1 where the projection shows the scene.
+@compute @workgroup_size(8, 8, 1)
+fn store(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (!inside(gid)) {
+        return;
+    }
+    let py = gid.y + frame.band.x;
+    let d = pixel_dir(f32(gid.x) + 0.5, f32(py) + 0.5);
+    let i = gid.y * frame.size.x + gid.x;
+    var layer = 0u;
+    var x = gid.x;
+    if (frame.size.z == 3u) {
+        layer = gid.x / frame.size.w;
+        x = gid.x - layer * frame.size.w;
+    }
+    textureStore(target_tex, vec2<u32>(x, py), layer, vec4<f32>(accum[i].xyz, d.w));
+}

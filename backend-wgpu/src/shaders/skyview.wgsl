@@ -1,0 +1,350 @@
+// The per-frame sky-view LUT on the GPU: a port of lut.rs
+// `SkyView::row`/`SkyView::transfer` and `SkyView::from_rows` (Hillaire
+// 2020 §5: a ray march per texel lit through the transmittance and
+// multiple-scattering LUTs, which stay CPU-precomputed and are uploaded).
+//
+// Spectra have 10 bands, held as three vec4 "band groups" (bands 4k..4k+3;
+// the last two lanes of group 2 are zero); LUT texels store their three
+// groups consecutively. The Rust mirror of `Atmo` is `AtmosphereUniforms`.
+
+struct Atmo {
+    rayleigh: array<vec4<f32>, 3>,
+    mie_scattering: array<vec4<f32>, 3>,
+    mie_extinction: array<vec4<f32>, 3>,
+    ozone: array<vec4<f32>, 3>,
+    forward: array<vec4<f32>, 3>,
+    // band → linear sRGB weights (lux), per channel and band group
+    w_r: array<vec4<f32>, 3>,
+    w_g: array<vec4<f32>, 3>,
+    w_b: array<vec4<f32>, 3>,
+    // bottom, top, 1/H_R, 1/H_M (km, km⁻¹)
+    s0: vec4<f32>,
+    // ozone peak altitude, 1/ozone half width, g, ground albedo
+    s1: vec4<f32>,
+    // Sun angular radius (rad), observer radius r0 (km), cos of the forward
+    // peak, 1 when the forward peak is on
+    s2: vec4<f32>,
+    // local Sun direction (x, 0, z), irradiance scale
+    sun: vec4<f32>,
+    // transmittance LUT w, h; multiple-scattering LUT n; march steps
+    dims: vec4<u32>,
+    // sky-view LUT w, h
+    dims2: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> atmo: Atmo;
+@group(0) @binding(1) var<storage, read> trans: array<vec4<f32>>;
+@group(0) @binding(2) var<storage, read> trans_s: array<vec4<f32>>;
+@group(0) @binding(3) var<storage, read> multi: array<vec4<f32>>;
+// w × h sky-view texels, then the ground luminance
+@group(0) @binding(4) var<storage, read_write> sky: array<vec4<f32>>;
+
+const PI: f32 = 3.14159265358979;
+const HALF_PI: f32 = 1.57079632679490;
+
+fn safe_sqrt(x: f32) -> f32 {
+    return sqrt(max(x, 0.0));
+}
+
+fn tex_from_unit(x: f32, n: u32) -> f32 {
+    let nf = f32(n);
+    return 0.5 / nf + x * (1.0 - 1.0 / nf);
+}
+
+fn unit_from_tex(u: f32, n: u32) -> f32 {
+    let nf = f32(n);
+    return (u - 0.5 / nf) / (1.0 - 1.0 / nf);
+}
+
+fn hermite(e0: f32, e1: f32, x: f32) -> f32 {
+    let t = clamp((x - e0) / (e1 - e0), 0.0, 1.0);
+    return t * t * (3.0 - 2.0 * t);
+}
+
+fn distance_to_top(r: f32, mu: f32) -> f32 {
+    let top = atmo.s0.y;
+    return max(-r * mu + safe_sqrt(r * r * (mu * mu - 1.0) + top * top), 0.0);
+}
+
+fn distance_to_bottom(r: f32, mu: f32) -> f32 {
+    let b = atmo.s0.x;
+    return max(-r * mu - safe_sqrt(r * r * (mu * mu - 1.0) + b * b), 0.0);
+}
+
+fn hits_ground(r: f32, mu: f32) -> bool {
+    let b = atmo.s0.x;
+    return mu < 0.0 && r * r * (mu * mu - 1.0) + b * b >= 0.0;
+}
+
+fn sun_visibility(r: f32, mu_s: f32) -> f32 {
+    let sin_h = min(atmo.s0.x / r, 1.0);
+    let cos_h = -safe_sqrt(1.0 - sin_h * sin_h);
+    let a = atmo.s2.x * sin_h;
+    return hermite(-a, a, mu_s - cos_h);
+}
+
+// Bilinear lookup of band group k of a Spectrum LUT (w × h), clamped.
+fn lut_corners(u: f32, v: f32, w: u32, h: u32) -> vec4<f32> {
+    let x = clamp(u * f32(w) - 0.5, 0.0, f32(w - 1u));
+    let y = clamp(v * f32(h) - 0.5, 0.0, f32(h - 1u));
+    return vec4<f32>(x, y, x - floor(x), y - floor(y));
+}
+
+fn trans_sample(scattering: bool, u: f32, v: f32, k: u32) -> vec4<f32> {
+    let w = atmo.dims.x;
+    let h = atmo.dims.y;
+    let c = lut_corners(u, v, w, h);
+    let x0 = u32(c.x);
+    let y0 = u32(c.y);
+    let x1 = min(x0 + 1u, w - 1u);
+    let y1 = min(y0 + 1u, h - 1u);
+    var t00: vec4<f32>;
+    var t01: vec4<f32>;
+    var t10: vec4<f32>;
+    var t11: vec4<f32>;
+    if (scattering) {
+        t00 = trans_s[(y0 * w + x0) * 3u + k];
+        t01 = trans_s[(y0 * w + x1) * 3u + k];
+        t10 = trans_s[(y1 * w + x0) * 3u + k];
+        t11 = trans_s[(y1 * w + x1) * 3u + k];
+    } else {
+        t00 = trans[(y0 * w + x0) * 3u + k];
+        t01 = trans[(y0 * w + x1) * 3u + k];
+        t10 = trans[(y1 * w + x0) * 3u + k];
+        t11 = trans[(y1 * w + x1) * 3u + k];
+    }
+    let a = t00 * (1.0 - c.z) + t01 * c.z;
+    let b = t10 * (1.0 - c.z) + t11 * c.z;
+    return a * (1.0 - c.w) + b * c.w;
+}
+
+// lut.rs `sun_transmittance`: the transmittance LUT (Bruneton 2017
+// parameterisation) times the Earth's-shadow visibility.
+fn sun_transmittance(scattering: bool, r: f32, mu_s: f32, k: u32) -> vec4<f32> {
+    let vis = sun_visibility(r, mu_s);
+    if (vis <= 0.0) {
+        return vec4<f32>(0.0);
+    }
+    let b = atmo.s0.x;
+    let top = atmo.s0.y;
+    let hh = safe_sqrt(top * top - b * b);
+    let rho = safe_sqrt(r * r - b * b);
+    let d = distance_to_top(r, mu_s);
+    let d_min = top - r;
+    let d_max = rho + hh;
+    var x_mu = 0.0;
+    if (d_max > d_min) {
+        x_mu = clamp((d - d_min) / (d_max - d_min), 0.0, 1.0);
+    }
+    let x_r = clamp(rho / hh, 0.0, 1.0);
+    let u = tex_from_unit(x_mu, atmo.dims.x);
+    let v = tex_from_unit(x_r, atmo.dims.y);
+    return trans_sample(scattering, u, v, k) * vis;
+}
+
+fn unit_from_mu_s(mu_s: f32) -> f32 {
+    let m = clamp(mu_s, -1.0, 1.0);
+    return 0.5 + 0.5 * sign(m) * sqrt(abs(m));
+}
+
+fn multiscatter_at(r: f32, mu_s: f32, k: u32) -> vec4<f32> {
+    let n = atmo.dims.z;
+    let u = tex_from_unit(unit_from_mu_s(mu_s), n);
+    let v = tex_from_unit(clamp((r - atmo.s0.x) / (atmo.s0.y - atmo.s0.x), 0.0, 1.0), n);
+    let c = lut_corners(u, v, n, n);
+    let x0 = u32(c.x);
+    let y0 = u32(c.y);
+    let x1 = min(x0 + 1u, n - 1u);
+    let y1 = min(y0 + 1u, n - 1u);
+    let a = multi[(y0 * n + x0) * 3u + k] * (1.0 - c.z) + multi[(y0 * n + x1) * 3u + k] * c.z;
+    let b = multi[(y1 * n + x0) * 3u + k] * (1.0 - c.z) + multi[(y1 * n + x1) * 3u + k] * c.z;
+    return a * (1.0 - c.w) + b * c.w;
+}
+
+fn rayleigh_phase(c: f32) -> f32 {
+    return 3.0 / (16.0 * PI) * (1.0 + c * c);
+}
+
+fn cornette_shanks_phase(g: f32, c: f32) -> f32 {
+    let k = 3.0 / (8.0 * PI) * (1.0 - g * g) / (2.0 + g * g);
+    let d = max(1.0 + g * g - 2.0 * g * c, 1e-6);
+    return k * (1.0 + c * c) / (d * sqrt(d));
+}
+
+// ∫₀^dt e^{−σt} dt per band (lut.rs `integrate_segment`).
+fn integrate_segment(ext: vec4<f32>, seg: vec4<f32>, dt: f32) -> vec4<f32> {
+    let big = (vec4<f32>(1.0) - seg) / max(ext, vec4<f32>(1e-30));
+    let small = dt * (vec4<f32>(1.0) - 0.5 * ext * dt);
+    return select(small, big, ext * dt > vec4<f32>(1e-4));
+}
+
+// lut.rs `SkyView::transfer` for band group k.
+fn transfer(r0: f32, view: vec3<f32>, sun: vec3<f32>, steps: u32, k: u32) -> vec4<f32> {
+    let pos = vec3<f32>(0.0, 0.0, r0);
+    let mu = view.z;
+    let ground = hits_ground(r0, mu);
+    var t_max: f32;
+    if (ground) {
+        t_max = distance_to_bottom(r0, mu);
+    } else {
+        t_max = distance_to_top(r0, mu);
+    }
+    let cos_theta = dot(view, sun);
+    let g = atmo.s1.z;
+    let pr = rayleigh_phase(cos_theta);
+    let pm = cornette_shanks_phase(g, cos_theta);
+    let fwd = atmo.forward[k];
+    let cone = atmo.s2.z;
+    var pm_flat = pm;
+    if (atmo.s2.w > 0.0 && cos_theta > cone) {
+        pm_flat = cornette_shanks_phase(g, cone);
+    }
+    let t_h = max(distance_to_top(r0, 0.0), 1e-3);
+    let n = clamp(u32(ceil(f32(steps) * sqrt(t_max / t_h))), min(steps, 20u), steps);
+    var tv = vec4<f32>(1.0);
+    var l = vec4<f32>(0.0);
+    var t_prev = 0.0;
+    let ray = atmo.rayleigh[k];
+    let mie_s = atmo.mie_scattering[k];
+    let mie_e = atmo.mie_extinction[k];
+    let oz = atmo.ozone[k];
+    for (var s = 0u; s < n; s = s + 1u) {
+        let x = (f32(s) + 1.0) / f32(n);
+        let t_next = t_max * x * x;
+        let dt = t_next - t_prev;
+        let t = 0.5 * (t_prev + t_next);
+        t_prev = t_next;
+        let p = pos + view * t;
+        let rp = length(p);
+        let mus = dot(p, sun) / rp;
+        let hgt = max(rp - atmo.s0.x, 0.0);
+        let d_r = exp(-hgt * atmo.s0.z);
+        let d_m = exp(-hgt * atmo.s0.w);
+        let d_o = max(1.0 - abs(hgt - atmo.s1.x) * atmo.s1.y, 0.0);
+        let sr = ray * d_r;
+        let sm = mie_s * d_m;
+        let ext = ray * d_r + mie_e * d_m + oz * d_o - fwd * d_m;
+        let tsun = sun_transmittance(true, rp, mus, k);
+        let psi = multiscatter_at(rp, mus, k);
+        var src = (sr * pr + sm * pm_flat) * tsun + (sr + sm - fwd * d_m) * psi;
+        if (pm > pm_flat) {
+            src = src + sm * (pm - pm_flat) * sun_transmittance(false, rp, mus, k);
+        }
+        let seg = exp(-ext * dt);
+        l = l + tv * src * integrate_segment(ext, seg, dt);
+        tv = tv * seg;
+    }
+    if (ground) {
+        let pg = pos + view * t_max;
+        let rg = length(pg);
+        let mug = dot(pg, sun) / rg;
+        let tsun = sun_transmittance(true, rg, mug, k);
+        l = l + tv * tsun * (max(mug, 0.0) * atmo.s1.w / PI);
+    }
+    return l;
+}
+
+fn luminance(c: vec3<f32>) -> f32 {
+    return 0.2126 * c.x + 0.7152 * c.y + 0.0722 * c.z;
+}
+
+// spectrum.rs `clip_to_gamut`.
+fn clip_to_gamut(c: vec3<f32>) -> vec3<f32> {
+    let m = min(c.x, min(c.y, c.z));
+    if (m >= 0.0) {
+        return c;
+    }
+    let y = luminance(c);
+    if (y <= 0.0) {
+        return vec3<f32>(0.0);
+    }
+    let t = y / (y - m);
+    return max(vec3<f32>(y) + t * (c - vec3<f32>(y)), vec3<f32>(0.0));
+}
+
+fn to_rgb(f0: vec4<f32>, f1: vec4<f32>, f2: vec4<f32>) -> vec3<f32> {
+    return vec3<f32>(
+        dot(atmo.w_r[0], f0) + dot(atmo.w_r[1], f1) + dot(atmo.w_r[2], f2),
+        dot(atmo.w_g[0], f0) + dot(atmo.w_g[1], f1) + dot(atmo.w_g[2], f2),
+        dot(atmo.w_b[0], f0) + dot(atmo.w_b[1], f1) + dot(atmo.w_b[2], f2),
+    );
+}
+
+// One sky-view texel (lut.rs `SkyView::row`).
+@compute @workgroup_size(8, 8, 1)
+fn sky_view(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let w = atmo.dims2.x;
+    let h = atmo.dims2.y;
+    if (gid.x >= w || gid.y >= h) {
+        return;
+    }
+    let u = (f32(gid.x) + 0.5) / f32(w);
+    let v = (f32(gid.y) + 0.5) / f32(h);
+    let az = clamp(unit_from_tex(u, w), 0.0, 1.0) * PI;
+    let xe = clamp(unit_from_tex(v, h), 0.0, 1.0);
+    let e = xe * xe * HALF_PI;
+    let d = vec3<f32>(cos(e) * cos(az), cos(e) * sin(az), sin(e));
+    let sun = atmo.sun.xyz;
+    let r0 = atmo.s2.y;
+    let steps = atmo.dims.w;
+    let f0 = transfer(r0, d, sun, steps, 0u);
+    let f1 = transfer(r0, d, sun, steps, 1u);
+    let f2 = transfer(r0, d, sun, steps, 2u);
+    let rgb = clip_to_gamut(to_rgb(f0, f1, f2)) * atmo.sun.w;
+    sky[gid.y * w + gid.x] = vec4<f32>(rgb, 0.0);
+}
+
+fn sky_sample(u: f32, v: f32) -> vec3<f32> {
+    let w = atmo.dims2.x;
+    let h = atmo.dims2.y;
+    let c = lut_corners(u, v, w, h);
+    let x0 = u32(c.x);
+    let y0 = u32(c.y);
+    let x1 = min(x0 + 1u, w - 1u);
+    let y1 = min(y0 + 1u, h - 1u);
+    let a = mix(sky[y0 * w + x0].xyz, sky[y0 * w + x1].xyz, c.z);
+    let b = mix(sky[y1 * w + x0].xyz, sky[y1 * w + x1].xyz, c.z);
+    return mix(a, b, c.w);
+}
+
+var<workgroup> rings: array<vec3<f32>, 64>;
+
+// The ground luminance below the horizon (lut.rs `SkyView::from_rows`):
+// albedo/π × (direct + diffuse horizontal illuminance), the diffuse part
+// integrated over the new sky view in 64 elevation rings × 64 azimuths;
+// one workgroup, one ring per invocation, summed in ring order.
+@compute @workgroup_size(64, 1, 1)
+fn ground(@builtin(local_invocation_index) a: u32) {
+    let w = atmo.dims2.x;
+    let h = atmo.dims2.y;
+    let ne = 64.0;
+    let na = 64u;
+    let e0 = f32(a) / ne * HALF_PI;
+    let e1 = f32(a + 1u) / ne * HALF_PI;
+    let e = 0.5 * (e0 + e1);
+    let ring = (sin(e1) - sin(e0)) * sin(e);
+    let v = tex_from_unit(sqrt(e / HALF_PI), h);
+    var acc = vec3<f32>(0.0);
+    for (var b = 0u; b < na; b = b + 1u) {
+        let u = tex_from_unit((f32(b) + 0.5) / f32(na), w);
+        let dw = ring * PI / f32(na) * 2.0;
+        acc = acc + sky_sample(u, v) * dw;
+    }
+    rings[a] = acc;
+    workgroupBarrier();
+    if (a == 0u) {
+        var diffuse = vec3<f32>(0.0);
+        for (var i = 0u; i < 64u; i = i + 1u) {
+            diffuse = diffuse + rings[i];
+        }
+        let r0 = atmo.s2.y;
+        let mu = clamp(atmo.sun.z, -1.0, 1.0);
+        let t0 = sun_transmittance(false, r0, mu, 0u);
+        let t1 = sun_transmittance(false, r0, mu, 1u);
+        let t2 = sun_transmittance(false, r0, mu, 2u);
+        let direct = to_rgb(t0, t1, t2);
+        let mu_s = max(atmo.sun.z, 0.0);
+        let albedo = atmo.s1.w / PI;
+        sky[w * h] = vec4<f32>(albedo * (direct * mu_s * atmo.sun.w + diffuse), 0.0);
+    }
+}

@@ -1,0 +1,194 @@
+//! Uniform data shared with the WGSL shaders: `#[repr(C)]` Pod mirrors of
+//! the WGSL structs, field for field (vec4-sized fields only, so that the
+//! Rust and WGSL uniform layouts coincide without padding rules).
+
+use bytemuck::{Pod, Zeroable};
+
+/// Projection codes of `Frame.size.z` in `sky.wgsl`.
+pub mod projection_code {
+    /// All-sky azimuthal equidistant.
+    pub const FISHEYE: u32 = 0;
+    /// Equirectangular.
+    pub const EQUIRECT: u32 = 1;
+    /// Pinhole perspective.
+    pub const PERSPECTIVE: u32 = 2;
+    /// Cube map (6H×H strip; six layers in the target texture).
+    pub const CUBEMAP: u32 = 3;
+}
+
+/// Mirror of WGSL `struct Frame` (src/shaders/sky.wgsl): per-frame
+/// camera, Sun and table parameters. 144 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FrameUniforms {
+    /// Image width, height (the 6H×H strip for a cube map), projection
+    /// code ([`projection_code`]), cube face size H.
+    pub size: [u32; 4],
+    /// Perspective forward vector (ENU); w = tan(fov / 2).
+    pub persp_f: [f32; 4],
+    /// Perspective right vector (ENU).
+    pub persp_r: [f32; 4],
+    /// Perspective up vector (ENU).
+    pub persp_u: [f32; 4],
+    /// Sun centre direction (ENU, unit); w = cos of the supersampling margin.
+    pub sun: [f32; 4],
+    /// cos(disk radius), sin(disk radius), z_min, z_max of the Sun table.
+    pub disk: [f32; 4],
+    /// Sky-view LUT width, height; Sun table ρ nodes, z nodes.
+    pub tables: [u32; 4],
+    /// Sun sub-samples per axis; first pixel x, y of the Sun dispatch; reserved.
+    pub opts: [u32; 4],
+    /// The band of rows of this dispatch: first row, row count; reserved.
+    pub band: [u32; 4],
+}
+
+/// Mirror of WGSL `struct Atmo` (src/shaders/skyview.wgsl): the medium,
+/// band weights and sky-view geometry of the GPU sky-view LUT. Spectra
+/// (10 bands) are three vec4 band groups, the last two lanes zero. 480 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct AtmosphereUniforms {
+    /// Rayleigh scattering at sea level, km⁻¹.
+    pub rayleigh: [[f32; 4]; 3],
+    /// Aerosol scattering at sea level, km⁻¹.
+    pub mie_scattering: [[f32; 4]; 3],
+    /// Aerosol extinction at sea level, km⁻¹.
+    pub mie_extinction: [[f32; 4]; 3],
+    /// Ozone absorption at the peak, km⁻¹.
+    pub ozone: [[f32; 4]; 3],
+    /// δ-scaled forward scattering f·σ_M, km⁻¹.
+    pub forward: [[f32; 4]; 3],
+    /// Band → linear sRGB red weights, lux.
+    pub w_r: [[f32; 4]; 3],
+    /// Band → green weights, lux.
+    pub w_g: [[f32; 4]; 3],
+    /// Band → blue weights, lux.
+    pub w_b: [[f32; 4]; 3],
+    /// Ground radius, top radius (km), 1/H_R, 1/H_M (km⁻¹).
+    pub s0: [f32; 4],
+    /// Ozone peak altitude (km), 1/ozone half width (km⁻¹), g, albedo.
+    pub s1: [f32; 4],
+    /// Sun angular radius (rad), observer radius r0 (km), cos of the
+    /// forward peak, 1 when the forward peak is on.
+    pub s2: [f32; 4],
+    /// Local Sun direction (x, 0, z); irradiance scale.
+    pub sun: [f32; 4],
+    /// Transmittance LUT w, h; multiple-scattering LUT n; march steps.
+    pub dims: [u32; 4],
+    /// Sky-view LUT w, h; reserved.
+    pub dims2: [u32; 4],
+}
+
+/// The WGSL source of the image passes.
+pub const SKY_WGSL: &str = include_str!("shaders/sky.wgsl");
+
+/// The WGSL source of the sky-view LUT passes.
+pub const SKYVIEW_WGSL: &str = include_str!("shaders/skyview.wgsl");
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{align_of, offset_of, size_of};
+
+    /// The Rust struct's size and field offsets equal the layout naga
+    /// computes for the WGSL `Frame` (uniform address space rules).
+    #[test]
+    fn frame_uniforms_mirror_the_wgsl_struct() {
+        assert_eq!(size_of::<FrameUniforms>(), 144);
+        assert_eq!(align_of::<FrameUniforms>(), 4);
+        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Frame"))
+            .expect("struct Frame");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("Frame is not a struct");
+        };
+        assert_eq!(*span as usize, size_of::<FrameUniforms>());
+        assert_eq!(layouter[handle].size as usize, size_of::<FrameUniforms>());
+        let rust = [
+            ("size", offset_of!(FrameUniforms, size)),
+            ("persp_f", offset_of!(FrameUniforms, persp_f)),
+            ("persp_r", offset_of!(FrameUniforms, persp_r)),
+            ("persp_u", offset_of!(FrameUniforms, persp_u)),
+            ("sun", offset_of!(FrameUniforms, sun)),
+            ("disk", offset_of!(FrameUniforms, disk)),
+            ("tables", offset_of!(FrameUniforms, tables)),
+            ("opts", offset_of!(FrameUniforms, opts)),
+            ("band", offset_of!(FrameUniforms, band)),
+        ];
+        assert_eq!(members.len(), rust.len());
+        for (m, (name, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(name));
+            assert_eq!(m.offset as usize, off, "{name}");
+        }
+    }
+
+    #[test]
+    fn atmosphere_uniforms_mirror_the_wgsl_struct() {
+        assert_eq!(size_of::<AtmosphereUniforms>(), 480);
+        let module = naga::front::wgsl::parse_str(SKYVIEW_WGSL).expect("skyview.wgsl parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Atmo"))
+            .expect("struct Atmo");
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("Atmo is not a struct");
+        };
+        assert_eq!(
+            layouter[handle].size as usize,
+            size_of::<AtmosphereUniforms>()
+        );
+        let rust = [
+            ("rayleigh", offset_of!(AtmosphereUniforms, rayleigh)),
+            (
+                "mie_scattering",
+                offset_of!(AtmosphereUniforms, mie_scattering),
+            ),
+            (
+                "mie_extinction",
+                offset_of!(AtmosphereUniforms, mie_extinction),
+            ),
+            ("ozone", offset_of!(AtmosphereUniforms, ozone)),
+            ("forward", offset_of!(AtmosphereUniforms, forward)),
+            ("w_r", offset_of!(AtmosphereUniforms, w_r)),
+            ("w_g", offset_of!(AtmosphereUniforms, w_g)),
+            ("w_b", offset_of!(AtmosphereUniforms, w_b)),
+            ("s0", offset_of!(AtmosphereUniforms, s0)),
+            ("s1", offset_of!(AtmosphereUniforms, s1)),
+            ("s2", offset_of!(AtmosphereUniforms, s2)),
+            ("sun", offset_of!(AtmosphereUniforms, sun)),
+            ("dims", offset_of!(AtmosphereUniforms, dims)),
+            ("dims2", offset_of!(AtmosphereUniforms, dims2)),
+        ];
+        assert_eq!(members.len(), rust.len());
+        for (m, (name, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(name));
+            assert_eq!(m.offset as usize, off, "{name}");
+        }
+    }
+
+    /// The shader validates (all entry points) under naga's default rules.
+    #[test]
+    fn shader_validates() {
+        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .expect("sky.wgsl validates");
+        let names: Vec<_> = module
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect();
+        assert_eq!(names, ["atmosphere", "sun", "store"]);
+    }
+}
