@@ -49,7 +49,7 @@ use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
 use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
-pub use uniforms::{AtmosphereUniforms, FrameUniforms};
+pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms};
 
 /// Nodes of the Sun table in normalised disk radius ρ.
 pub const SUN_TABLE_RHO: usize = 64;
@@ -108,6 +108,7 @@ struct Pipelines {
     layout: wgpu::BindGroupLayout,
     atmosphere: wgpu::ComputePipeline,
     sun: wgpu::ComputePipeline,
+    milkyway: wgpu::ComputePipeline,
     store: wgpu::ComputePipeline,
 }
 
@@ -150,6 +151,8 @@ pub struct WgpuRenderer {
     skyview: SkyViewPipelines,
     gpu_luts: Option<GpuLuts>,
     sky_view_on_gpu: bool,
+    /// The Milky Way map (uploaded on first use) and its width, height.
+    mw_map: Option<(wgpu::Buffer, u32, u32)>,
 }
 
 struct SkyViewPipelines {
@@ -225,6 +228,7 @@ impl WgpuRenderer {
             skyview,
             gpu_luts: None,
             sky_view_on_gpu: true,
+            mw_map: None,
         })
     }
 
@@ -271,6 +275,20 @@ impl WgpuRenderer {
                     },
                     count: None,
                 },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 5,
+                    visibility: wgpu::ShaderStages::COMPUTE,
+                    ty: wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: wgpu::BufferSize::new(
+                            std::mem::size_of::<NightUniforms>() as u64,
+                        ),
+                    },
+                    count: None,
+                },
+                storage(6, true),
+                storage(7, true),
             ],
         });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -291,6 +309,7 @@ impl WgpuRenderer {
         Pipelines {
             atmosphere: pipeline("atmosphere"),
             sun: pipeline("sun"),
+            milkyway: pipeline("milkyway"),
             store: pipeline("store"),
             layout,
         }
@@ -377,15 +396,18 @@ impl WgpuRenderer {
             .validate()
             .map_err(|e| RenderError::Scene(e.field, e.message))?;
         // Night passes invisible at this exposure are culled as on the CPU
-        // (they are not ported yet, so this decides whether the frame can
-        // be rendered here at all: e.g. no stars at noon).
+        // (stars and planets are not ported yet, so this decides whether the
+        // frame can be rendered here at all: e.g. no stars at noon).
         let culled = self.cpu.night_culling(scene, state);
         let culled_reason = |e: Effect| culled.iter().find(|c| c.0 == e).map(|c| c.1.clone());
         for p in state.passes.iter().filter(|p| p.run) {
             if culled_reason(p.effect).is_some() {
                 continue;
             }
-            if !matches!(p.effect, Effect::Atmosphere | Effect::Sun) {
+            if !matches!(
+                p.effect,
+                Effect::Atmosphere | Effect::Sun | Effect::Milkyway
+            ) {
                 // Unavailable: `--backend auto` then falls back to the CPU.
                 return Err(RenderError::Unavailable(format!(
                     "the {} pass is not yet available in the wgpu backend",
@@ -532,8 +554,50 @@ impl WgpuRenderer {
             band: [0, h, 0, 0],
         };
 
+        // The Milky Way pass's constants, map and extinction table (dummies
+        // when it does not run).
+        let milkyway = state.runs(Effect::Milkyway) && culled_reason(Effect::Milkyway).is_none();
+        let (night_u, ext_table) = if milkyway {
+            let (w, h) = self.upload_milkyway_map();
+            let luts = if atmosphere {
+                Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
+            } else {
+                None
+            };
+            night_inputs(state, luts, w, h)
+        } else {
+            (
+                NightUniforms {
+                    dims: [2, 2, 2, 0],
+                    ..bytemuck::Zeroable::zeroed()
+                },
+                vec![[0.0; 4]; 2],
+            )
+        };
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;
+        let night_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("night"),
+            contents: bytemuck::bytes_of(&night_u),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let ext_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("extinction"),
+            contents: bytemuck::cast_slice(&ext_table),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let no_map;
+        let map_buf = match (&self.mw_map, milkyway) {
+            (Some((b, _, _)), true) => b,
+            _ => {
+                no_map = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some("no Milky Way map"),
+                    contents: bytemuck::cast_slice(&[[0.0f32; 4]; 4]),
+                    usage: wgpu::BufferUsages::STORAGE,
+                });
+                &no_map
+            }
+        };
         // One uniform per band: its rows and its part of the Sun's rectangle.
         let band_frames: Vec<FrameUniforms> = bands
             .iter()
@@ -613,6 +677,18 @@ impl WgpuRenderer {
                             binding: 4,
                             resource: wgpu::BindingResource::TextureView(&view),
                         },
+                        wgpu::BindGroupEntry {
+                            binding: 5,
+                            resource: night_buf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 6,
+                            resource: map_buf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 7,
+                            resource: ext_buf.as_entire_binding(),
+                        },
                     ],
                 })
             })
@@ -626,6 +702,7 @@ impl WgpuRenderer {
             if run {
                 let (p, is_sun) = match planned.effect {
                     Effect::Atmosphere => (&self.pipelines.atmosphere, false),
+                    Effect::Milkyway => (&self.pipelines.milkyway, false),
                     _ => (&self.pipelines.sun, true),
                 };
                 runs.push((planned.effect.name().into(), p, is_sun));
@@ -720,6 +797,32 @@ impl WgpuRenderer {
             lut_source,
             sky_view_ms,
         })
+    }
+
+    /// Uploads the Milky Way map (once); returns its width and height (a
+    /// 2 × 2 black map when the embedded one does not decode, as the CPU
+    /// then draws no map).
+    fn upload_milkyway_map(&mut self) -> (u32, u32) {
+        if let Some((_, w, h)) = &self.mw_map {
+            return (*w, *h);
+        }
+        let (texels, w, h) = match himmel_skymodel::milkyway::MilkyWayMap::embedded() {
+            Ok(m) => {
+                let (w, h) = m.size();
+                let t: Vec<[f32; 4]> = m.texels().iter().map(|c| [c[0], c[1], c[2], 0.0]).collect();
+                (t, w as u32, h as u32)
+            }
+            Err(_) => (vec![[0.0; 4]; 4], 2, 2),
+        };
+        let buf = self
+            .device
+            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("Milky Way map"),
+                contents: bytemuck::cast_slice(&texels),
+                usage: wgpu::BufferUsages::STORAGE,
+            });
+        self.mw_map = Some((buf, w, h));
+        (w, h)
     }
 
     fn wait(&self) -> Result<(), RenderError> {
@@ -1043,6 +1146,58 @@ fn gpu_sky_view(
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
     Ok(sky)
+}
+
+/// The Milky Way pass's uniforms and extinction table for `state`: the
+/// CPU's `NightBackground` (skymodel milkyway.rs) constants, and its
+/// `Extinction` table (from `luts`' transmittance at the observer; none
+/// without the atmosphere) with, in the fourth lane, the refraction (rad)
+/// that `milkyway::unrefracted` takes off the apparent altitude asin μ at
+/// each node μ. `map_w` × `map_h` is the uploaded map's size.
+pub fn night_inputs(
+    state: &SkyState,
+    luts: Option<&AtmosphereLuts>,
+    map_w: u32,
+    map_h: u32,
+) -> (NightUniforms, Vec<[f32; 4]>) {
+    use himmel_skymodel::milkyway::{unrefracted, NightBackground, OBLIQUITY_J2000};
+    use himmel_skymodel::stars::Extinction;
+    let bg = NightBackground::new(state.night.star_frame.icrs_to_enu);
+    let m = bg.enu_to_icrs();
+    let extinction = match luts {
+        Some(l) => {
+            let r0 = l.medium.bottom + state.observer_altitude_km as f32;
+            Extinction::from_transmittance(|mu| l.sun_transmittance(r0, mu))
+        }
+        None => Extinction::none(),
+    };
+    let table = extinction.table();
+    let n = table.len();
+    let rows: Vec<[f32; 4]> = table
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let mu = i as f32 / (n - 1) as f32;
+            let d = Vec3::new((1.0 - mu * mu).max(0.0).sqrt(), 0.0, mu);
+            let r = (mu.asin() - unrefracted(d).z.clamp(-1.0, 1.0).asin()).max(0.0);
+            [t[0], t[1], t[2], r]
+        })
+        .collect();
+    use himmel_skymodel::milkyway::{AIRGLOW_HEIGHT_KM, EARTH_RADIUS_KM};
+    let k = (EARTH_RADIUS_KM / (EARTH_RADIUS_KM + AIRGLOW_HEIGHT_KM)) as f32;
+    let (se, ce) = OBLIQUITY_J2000.sin_cos();
+    let [ag, zl, fl] = bg.colours();
+    let row = |i: usize, w: f32| [m.x_axis[i], m.y_axis[i], m.z_axis[i], w];
+    let u = NightUniforms {
+        enu_to_icrs_x: row(0, se),
+        enu_to_icrs_y: row(1, ce),
+        enu_to_icrs_z: row(2, k * k),
+        airglow: [ag[0], ag[1], ag[2], 0.0],
+        zodiacal: [zl[0], zl[1], zl[2], 0.0],
+        floor: [fl[0], fl[1], fl[2], 0.0],
+        dims: [map_w, map_h, n as u32, 0],
+    };
+    (u, rows)
 }
 
 /// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose

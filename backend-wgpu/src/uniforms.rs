@@ -79,6 +79,28 @@ pub struct AtmosphereUniforms {
     pub dims2: [u32; 4],
 }
 
+/// Mirror of WGSL `struct Night` (src/shaders/sky.wgsl): the per-frame
+/// constants of the Milky Way pass (skymodel milkyway.rs
+/// `NightBackground`). 112 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct NightUniforms {
+    /// First row of the ENU → ICRS rotation; w = sin ε (J2000 obliquity).
+    pub enu_to_icrs_x: [f32; 4],
+    /// Second row; w = cos ε.
+    pub enu_to_icrs_y: [f32; 4],
+    /// Third row; w = (R / (R + h))² of the airglow layer (van Rhijn).
+    pub enu_to_icrs_z: [f32; 4],
+    /// Airglow at the zenith, linear sRGB cd/m².
+    pub airglow: [f32; 4],
+    /// Zodiacal light per S10, linear sRGB cd/m².
+    pub zodiacal: [f32; 4],
+    /// Faint-star floor, linear sRGB cd/m².
+    pub floor: [f32; 4],
+    /// Milky Way map width, height; extinction table nodes; reserved.
+    pub dims: [u32; 4],
+}
+
 /// The WGSL source of the image passes.
 pub const SKY_WGSL: &str = include_str!("shaders/sky.wgsl");
 
@@ -119,6 +141,38 @@ mod tests {
             ("tables", offset_of!(FrameUniforms, tables)),
             ("opts", offset_of!(FrameUniforms, opts)),
             ("band", offset_of!(FrameUniforms, band)),
+        ];
+        assert_eq!(members.len(), rust.len());
+        for (m, (name, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(name));
+            assert_eq!(m.offset as usize, off, "{name}");
+        }
+    }
+
+    #[test]
+    fn night_uniforms_mirror_the_wgsl_struct() {
+        assert_eq!(size_of::<NightUniforms>(), 112);
+        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Night"))
+            .expect("struct Night");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("Night is not a struct");
+        };
+        assert_eq!(*span as usize, size_of::<NightUniforms>());
+        assert_eq!(layouter[handle].size as usize, size_of::<NightUniforms>());
+        let rust = [
+            ("enu_to_icrs_x", offset_of!(NightUniforms, enu_to_icrs_x)),
+            ("enu_to_icrs_y", offset_of!(NightUniforms, enu_to_icrs_y)),
+            ("enu_to_icrs_z", offset_of!(NightUniforms, enu_to_icrs_z)),
+            ("airglow", offset_of!(NightUniforms, airglow)),
+            ("zodiacal", offset_of!(NightUniforms, zodiacal)),
+            ("floor", offset_of!(NightUniforms, floor)),
+            ("dims", offset_of!(NightUniforms, dims)),
         ];
         assert_eq!(members.len(), rust.len());
         for (m, (name, off)) in members.iter().zip(rust) {
@@ -189,6 +243,6 @@ mod tests {
             .iter()
             .map(|e| e.name.as_str())
             .collect();
-        assert_eq!(names, ["atmosphere", "sun", "store"]);
+        assert_eq!(names, ["atmosphere", "sun", "milkyway", "store"]);
     }
 }

@@ -400,3 +400,50 @@ fn cube_texture_samples_match_the_cpu_strip() {
         );
     }
 }
+
+/// A dark night (Sun −60°-ish, Moon down) with the diffuse night sky:
+/// Milky Way map, faint-star floor, zodiacal light and airglow, extinguished.
+fn dark_night(p: Projection, w: u32, h: u32) -> (Scene, SkyState) {
+    let mut s = scene("2024-01-15T23:30:00Z", p, w, h);
+    s.effects = vec![Effect::Milkyway, Effect::Atmosphere];
+    let state = SkyState::at(&s).unwrap();
+    assert!(state.sun.alt_deg < -18.0, "{}", state.sun.alt_deg);
+    assert!(state.moon.alt_deg < -1.0, "Moon {}", state.moon.alt_deg);
+    (s, state)
+}
+
+/// The Milky Way pass ran on the GPU (not culled) and carries most of the
+/// light: without it the night sky is much darker.
+fn milkyway_ran_and_dominates(s: &Scene, state: &SkyState, with: &HdrImage) {
+    let mut r = gpu();
+    let out = r.render(s, state).unwrap();
+    let mw = out.passes.iter().find(|p| p.name == "milkyway").unwrap();
+    assert!(mw.ran && mw.ms.is_some(), "{mw:?}");
+    let mut s2 = s.clone();
+    s2.effects = vec![Effect::Atmosphere];
+    let state2 = SkyState::at(&s2).unwrap();
+    let without = r.render(&s2, &state2).unwrap().image;
+    let sum = |img: &HdrImage| -> f64 { img.pixels.iter().map(|p| luminance(*p) as f64).sum() };
+    assert!(
+        sum(with) > 3.0 * sum(&without),
+        "{} vs {}",
+        sum(with),
+        sum(&without)
+    );
+}
+
+#[test]
+fn dark_night_milky_way_fisheye() {
+    let (s, state) = dark_night(Projection::Fisheye, 128, 128);
+    let (_, g) = parity("dark night, Milky Way, fisheye", &s);
+    milkyway_ran_and_dominates(&s, &state, &g);
+}
+
+/// Equirect: the map's right-ascension seam, the refraction band near the
+/// horizon (the sky lifted by refraction), the ground below.
+#[test]
+fn dark_night_milky_way_equirect() {
+    let (s, state) = dark_night(Projection::Equirect, 256, 128);
+    let (_, g) = parity("dark night, Milky Way, equirect", &s);
+    milkyway_ran_and_dominates(&s, &state, &g);
+}

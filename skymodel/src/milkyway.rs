@@ -66,8 +66,9 @@ pub const AIRGLOW_HEIGHT_KM: f64 = 90.0;
 /// stars, S10 (the floor under the map): 25 − 15.9.
 pub const STARLIGHT_FLOOR_S10: f64 = 9.1;
 /// Mean obliquity of the ecliptic at J2000.0 (IAU 1976), radians.
-const OBLIQUITY_J2000: f32 = 0.409_092_8;
-const EARTH_RADIUS_KM: f64 = 6371.0;
+pub const OBLIQUITY_J2000: f32 = 0.409_092_8;
+/// Earth radius of the van Rhijn factor, km.
+pub const EARTH_RADIUS_KM: f64 = 6371.0;
 
 /// Zodiacal light at ecliptic latitude β given as sin β, S10.
 pub fn zodiacal_s10(sin_beta: f32) -> f32 {
@@ -154,6 +155,18 @@ impl MilkyWayMap {
             .map_err(Clone::clone)
     }
 
+    /// Width and height of the map, texels (plate carrée, see the module
+    /// documentation).
+    pub fn size(&self) -> (usize, usize) {
+        (self.w, self.h)
+    }
+
+    /// The texels, row-major from δ = +90° and α = 90° (linear sRGB, cd/m²),
+    /// for renderers that upload the map (e.g. `himmel-wgpu`).
+    pub fn texels(&self) -> &[[f32; 3]] {
+        &self.data
+    }
+
     /// Luminance (linear sRGB, cd/m²) towards the ICRS unit vector `u`,
     /// bilinear, wrapping in right ascension.
     pub fn radiance(&self, u: Vec3) -> [f32; 3] {
@@ -221,6 +234,24 @@ impl NightBackground {
             zodiacal: scaled(colour_from_bv(0.65), 1.0),
             floor: scaled(colour_from_bv(0.8), STARLIGHT_FLOOR_S10),
         }
+    }
+
+    /// The ENU → ICRS rotation of the frame (the transpose of the
+    /// catalogue stars' ICRS → ENU matrix).
+    pub fn enu_to_icrs(&self) -> Mat3 {
+        self.enu_to_icrs
+    }
+
+    /// The Milky Way map, if it decoded.
+    pub fn map(&self) -> Option<&'static MilkyWayMap> {
+        self.map
+    }
+
+    /// The linear sRGB colours (cd/m²) of [`Self::radiance`]: the airglow
+    /// at the zenith (× the van Rhijn factor), the zodiacal light per S10
+    /// (× [`zodiacal_s10`]) and the faint-star floor.
+    pub fn colours(&self) -> [[f32; 3]; 3] {
+        [self.airglow, self.zodiacal, self.floor]
     }
 
     /// Luminance (linear sRGB, cd/m², before extinction) towards ENU

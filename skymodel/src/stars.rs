@@ -276,6 +276,12 @@ impl Extinction {
         Extinction { table }
     }
 
+    /// The table: per-channel factors at μ = i / (len − 1), i = 0 … len − 1
+    /// (for renderers that upload it, e.g. `himmel-wgpu`).
+    pub fn table(&self) -> &[[f32; 3]] {
+        &self.table
+    }
+
     /// Per-channel transmittance towards ENU direction `dir` (unit).
     #[inline]
     pub fn rgb(&self, dir: Vec3) -> [f32; 3] {
