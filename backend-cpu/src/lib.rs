@@ -254,8 +254,27 @@ impl CpuRenderer {
     /// metering of the frame; nothing when no night pass is planned).
     pub fn night_culling(&mut self, scene: &Scene, state: &SkyState) -> Vec<(Effect, String)> {
         let night = [Effect::Milkyway, Effect::Stars, Effect::Planets];
+        match self.night_frame(scene, state) {
+            Some(frame) => night
+                .into_iter()
+                .filter_map(|e| frame.reason(e).map(|r| (e, r.to_string())))
+                .collect(),
+            None => Vec::new(),
+        }
+    }
+
+    /// The night passes' per-frame state (exposure, extinction, culling) as
+    /// [`CpuRenderer::render`] prepares it, or `None` when no night pass is
+    /// planned: for a backend that draws the stars from
+    /// [`night_pass::NightFrame::splat_plans`].
+    pub fn night_frame(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+    ) -> Option<night_pass::NightFrame> {
+        let night = [Effect::Milkyway, Effect::Stars, Effect::Planets];
         if !night.into_iter().any(|e| state.runs(e)) {
-            return Vec::new();
+            return None;
         }
         let atmosphere = state.runs(Effect::Atmosphere);
         if atmosphere {
@@ -264,11 +283,13 @@ impl CpuRenderer {
         let luts = self.luts.as_ref().filter(|_| atmosphere);
         let sky = luts.map(|l| SkyLight::new(l, scene, state));
         let dirs = directions(&scene.camera);
-        let frame = night_pass::NightFrame::prepare(scene, state, luts, sky.as_ref(), &dirs);
-        night
-            .into_iter()
-            .filter_map(|e| frame.reason(e).map(|r| (e, r.to_string())))
-            .collect()
+        Some(night_pass::NightFrame::prepare(
+            scene,
+            state,
+            luts,
+            sky.as_ref(),
+            &dirs,
+        ))
     }
 }
 

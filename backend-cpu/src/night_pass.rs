@@ -11,7 +11,8 @@ use himmel_skymodel::milkyway::NightBackground;
 use himmel_skymodel::night::{cull_diffuse, cull_points, estimate_ev100, white_luminance};
 use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::stars::{
-    catalogue, splat_at, star_source, Extinction, PointSource, Psf, SplatScratch,
+    catalogue, splat_at, splat_plan, star_source, Extinction, PointSource, Psf, SplatPlan,
+    SplatScratch,
 };
 use himmel_skymodel::{Effect, Scene, SkyState};
 use rayon::prelude::*;
@@ -241,27 +242,49 @@ impl NightFrame {
         }
     }
 
+    /// The footprints that [`Self::stars`] / [`Self::planets`] deposit, for
+    /// a backend that evaluates them per pixel (`himmel-wgpu`): each
+    /// source's [`SplatPlan`] (extinction applied) and its colour
+    /// (luminance 1), for the sources that `splat_all` draws.
+    pub fn splat_plans(
+        &self,
+        scene: &Scene,
+        sources: &[PointSource],
+    ) -> Vec<(SplatPlan, [f32; 3])> {
+        let psf = self.psf(scene);
+        let cam = &scene.camera;
+        let (w, h) = cam.image_size();
+        sources
+            .par_iter()
+            .with_min_len(256)
+            .map_init(SplatScratch::default, |scratch, s| {
+                let t = self.extinction.rgb(s.dir);
+                let c = [s.rgb[0] * t[0], s.rgb[1] * t[1], s.rgb[2] * t[2]];
+                let y = luminance(c);
+                let (cx, cy) = cam.dir_to_pixel(s.dir.as_dvec3())?;
+                let (fw, fh) = (w as f64, h as f64);
+                let margin = 64.0;
+                if y <= 0.0
+                    || !(-margin..fw + margin).contains(&cx)
+                    || !(-margin..fh + margin).contains(&cy)
+                {
+                    return None;
+                }
+                let plan = splat_plan(cam, (cx, cy), s.dir.z, s.lux * y, &psf, scratch)?;
+                Some((plan, [c[0] / y, c[1] / y, c[2] / y]))
+            })
+            .flatten()
+            .collect()
+    }
+
     /// The stars pass: every catalogue star above the horizon.
     pub fn stars(&self, pixels: &mut [[f32; 3]], scene: &Scene, state: &SkyState) {
-        let night = &state.night;
-        let sources: Vec<PointSource> = catalogue(scene.stars.limit_mag)
-            .par_iter()
-            .with_min_len(512)
-            .filter_map(|s| star_source(&night.star_frame, s, night.scintillation.as_ref()))
-            .collect();
-        self.splat_all(pixels, scene, &sources);
+        self.splat_all(pixels, scene, &star_sources(scene, state));
     }
 
     /// The planets pass: Mercury–Saturn above the horizon.
     pub fn planets(&self, pixels: &mut [[f32; 3]], scene: &Scene, state: &SkyState) {
-        let sources: Vec<PointSource> = state
-            .night
-            .planets
-            .iter()
-            .copied()
-            .filter(|p| p.dir.z >= 0.0)
-            .collect();
-        self.splat_all(pixels, scene, &sources);
+        self.splat_all(pixels, scene, &planet_sources(state));
     }
 
     /// The Milky Way pass: the diffuse night sky, extinguished, above the horizon.
@@ -282,4 +305,26 @@ impl NightFrame {
                 }
             });
     }
+}
+
+/// The sources of the stars pass: every catalogue star to
+/// `scene.stars.limit_mag` above the horizon (with scintillation).
+pub fn star_sources(scene: &Scene, state: &SkyState) -> Vec<PointSource> {
+    let night = &state.night;
+    catalogue(scene.stars.limit_mag)
+        .par_iter()
+        .with_min_len(512)
+        .filter_map(|s| star_source(&night.star_frame, s, night.scintillation.as_ref()))
+        .collect()
+}
+
+/// The sources of the planets pass: Mercury–Saturn above the horizon.
+pub fn planet_sources(state: &SkyState) -> Vec<PointSource> {
+    state
+        .night
+        .planets
+        .iter()
+        .copied()
+        .filter(|p| p.dir.z >= 0.0)
+        .collect()
 }

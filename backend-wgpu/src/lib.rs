@@ -49,7 +49,7 @@ use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
 use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
-pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms};
+pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms, PointRecord};
 
 /// Nodes of the Sun table in normalised disk radius ρ.
 pub const SUN_TABLE_RHO: usize = 64;
@@ -109,6 +109,8 @@ struct Pipelines {
     atmosphere: wgpu::ComputePipeline,
     sun: wgpu::ComputePipeline,
     milkyway: wgpu::ComputePipeline,
+    stars: wgpu::ComputePipeline,
+    planets: wgpu::ComputePipeline,
     store: wgpu::ComputePipeline,
 }
 
@@ -289,6 +291,8 @@ impl WgpuRenderer {
                 },
                 storage(6, true),
                 storage(7, true),
+                storage(8, true),
+                storage(9, true),
             ],
         });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -310,6 +314,8 @@ impl WgpuRenderer {
             atmosphere: pipeline("atmosphere"),
             sun: pipeline("sun"),
             milkyway: pipeline("milkyway"),
+            stars: pipeline("stars"),
+            planets: pipeline("planets"),
             store: pipeline("store"),
             layout,
         }
@@ -396,17 +402,25 @@ impl WgpuRenderer {
             .validate()
             .map_err(|e| RenderError::Scene(e.field, e.message))?;
         // Night passes invisible at this exposure are culled as on the CPU
-        // (stars and planets are not ported yet, so this decides whether the
-        // frame can be rendered here at all: e.g. no stars at noon).
-        let culled = self.cpu.night_culling(scene, state);
-        let culled_reason = |e: Effect| culled.iter().find(|c| c.0 == e).map(|c| c.1.clone());
+        // (the Moon is not ported yet).
+        let night_frame = self.cpu.night_frame(scene, state);
+        let culled_reason = |e: Effect| {
+            night_frame
+                .as_ref()
+                .and_then(|f| f.reason(e))
+                .map(str::to_string)
+        };
         for p in state.passes.iter().filter(|p| p.run) {
             if culled_reason(p.effect).is_some() {
                 continue;
             }
             if !matches!(
                 p.effect,
-                Effect::Atmosphere | Effect::Sun | Effect::Milkyway
+                Effect::Atmosphere
+                    | Effect::Sun
+                    | Effect::Milkyway
+                    | Effect::Stars
+                    | Effect::Planets
             ) {
                 // Unavailable: `--backend auto` then falls back to the CPU.
                 return Err(RenderError::Unavailable(format!(
@@ -557,7 +571,7 @@ impl WgpuRenderer {
         // The Milky Way pass's constants, map and extinction table (dummies
         // when it does not run).
         let milkyway = state.runs(Effect::Milkyway) && culled_reason(Effect::Milkyway).is_none();
-        let (night_u, ext_table) = if milkyway {
+        let (mut night_u, ext_table) = if milkyway {
             let (w, h) = self.upload_milkyway_map();
             let luts = if atmosphere {
                 Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
@@ -574,8 +588,41 @@ impl WgpuRenderer {
                 vec![[0.0; 4]; 2],
             )
         };
+        // The point sources' footprints (CPU: positions, extinction and
+        // normalisation as the CPU splat computes them) and per-tile lists.
+        let point_pass = |e: Effect| state.runs(e) && culled_reason(e).is_none();
+        let (star_plans, planet_plans) = match &night_frame {
+            Some(f) => (
+                if point_pass(Effect::Stars) {
+                    f.splat_plans(scene, &himmel_cpu::night_pass::star_sources(scene, state))
+                } else {
+                    Vec::new()
+                },
+                if point_pass(Effect::Planets) {
+                    f.splat_plans(scene, &himmel_cpu::night_pass::planet_sources(state))
+                } else {
+                    Vec::new()
+                },
+            ),
+            None => (Vec::new(), Vec::new()),
+        };
+        let (points, tile_words, tiles) = point_lists(&cam, &[&star_plans, &planet_plans]);
+        night_u.tiles = tiles;
+        if let Some((p, _)) = star_plans.first().or(planet_plans.first()) {
+            night_u.psf = [p.r as f32, 0.0, p.inv2s2, 0.0];
+        }
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;
+        let points_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("point sources"),
+            contents: bytemuck::cast_slice(&points),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
+        let tiles_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("point tiles"),
+            contents: bytemuck::cast_slice(&tile_words),
+            usage: wgpu::BufferUsages::STORAGE,
+        });
         let night_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("night"),
             contents: bytemuck::bytes_of(&night_u),
@@ -689,6 +736,14 @@ impl WgpuRenderer {
                             binding: 7,
                             resource: ext_buf.as_entire_binding(),
                         },
+                        wgpu::BindGroupEntry {
+                            binding: 8,
+                            resource: points_buf.as_entire_binding(),
+                        },
+                        wgpu::BindGroupEntry {
+                            binding: 9,
+                            resource: tiles_buf.as_entire_binding(),
+                        },
                     ],
                 })
             })
@@ -703,6 +758,8 @@ impl WgpuRenderer {
                 let (p, is_sun) = match planned.effect {
                     Effect::Atmosphere => (&self.pipelines.atmosphere, false),
                     Effect::Milkyway => (&self.pipelines.milkyway, false),
+                    Effect::Stars => (&self.pipelines.stars, false),
+                    Effect::Planets => (&self.pipelines.planets, false),
                     _ => (&self.pipelines.sun, true),
                 };
                 runs.push((planned.effect.name().into(), p, is_sun));
@@ -1189,6 +1246,8 @@ pub fn night_inputs(
     let [ag, zl, fl] = bg.colours();
     let row = |i: usize, w: f32| [m.x_axis[i], m.y_axis[i], m.z_axis[i], w];
     let u = NightUniforms {
+        tiles: [POINT_TILE, 1, 0, 0],
+        psf: [0.0; 4],
         enu_to_icrs_x: row(0, se),
         enu_to_icrs_y: row(1, ce),
         enu_to_icrs_z: row(2, k * k),
@@ -1198,6 +1257,85 @@ pub fn night_inputs(
         dims: [map_w, map_h, n as u32, 0],
     };
     (u, rows)
+}
+
+/// Tile size (px) of the point-source lists.
+pub const POINT_TILE: u32 = 16;
+
+/// The point sources of the GPU's point passes: one [`PointRecord`] per
+/// footprint (equirect footprints that cross the 0°/360° seam once per
+/// wrap, as the CPU's `pixel_index` wraps them) and, per list in `lists`
+/// (stars, planets), the records that may touch each
+/// [`POINT_TILE`]² tile: `tiles + 1` absolute start words, then the
+/// record indices. Returns the records, the words and `Night.tiles` (tile
+/// size, tiles per row, first word of each list).
+pub fn point_lists(
+    cam: &Camera,
+    lists: &[&[(himmel_skymodel::stars::SplatPlan, [f32; 3])]; 2],
+) -> (Vec<PointRecord>, Vec<u32>, [u32; 4]) {
+    let (w, h) = cam.image_size();
+    let (w, h) = (w as i64, h as i64);
+    let ts = POINT_TILE as i64;
+    let (tx, ty) = ((w + ts - 1) / ts, (h + ts - 1) / ts);
+    let n_tiles = (tx * ty) as usize;
+    let mut records = Vec::new();
+    let mut words = Vec::new();
+    let mut bases = [0u32; 2];
+    for (l, plans) in lists.iter().enumerate() {
+        let mut per_tile: Vec<Vec<u32>> = vec![Vec::new(); n_tiles];
+        for (plan, rgb) in plans.iter() {
+            let (cx, cy) = plan.pos;
+            let (ci, cj) = (cx.floor() as i64, cy.floor() as i64);
+            let reach = plan.r.max(plan.glare_r_px.ceil() as i64);
+            let (y0, y1) = ((cj - reach).max(0), (cj + reach).min(h - 1));
+            if y0 > y1 {
+                continue;
+            }
+            let wraps = if cam.projection == Projection::Equirect {
+                (ci - reach).div_euclid(w)..=(ci + reach).div_euclid(w)
+            } else {
+                0..=0
+            };
+            for k in wraps {
+                let (sx, si) = (cx - (k * w) as f64, ci - k * w);
+                let (x0, x1) = ((si - reach).max(0), (si + reach).min(w - 1));
+                if x0 > x1 {
+                    continue;
+                }
+                let idx = records.len() as u32;
+                records.push(PointRecord {
+                    a: [sx as f32, cy as f32, plan.core_scale, plan.glare_r_px],
+                    b: [rgb[0], rgb[1], rgb[2], plan.glare_scale],
+                    c: [
+                        si as i32,
+                        cj as i32,
+                        plan.face as i32,
+                        plan.near_horizon as i32,
+                    ],
+                });
+                for j in y0 / ts..=y1 / ts {
+                    for i in x0 / ts..=x1 / ts {
+                        per_tile[(j * tx + i) as usize].push(idx);
+                    }
+                }
+            }
+        }
+        bases[l] = words.len() as u32;
+        let start = words.len() + n_tiles + 1;
+        let mut at = start as u32;
+        for t in &per_tile {
+            words.push(at);
+            at += t.len() as u32;
+        }
+        words.push(at);
+        for t in per_tile {
+            words.extend(t);
+        }
+    }
+    if records.is_empty() {
+        records.push(bytemuck::Zeroable::zeroed());
+    }
+    (records, words, [POINT_TILE, tx as u32, bases[0], bases[1]])
 }
 
 /// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose

@@ -81,7 +81,7 @@ pub struct AtmosphereUniforms {
 
 /// Mirror of WGSL `struct Night` (src/shaders/sky.wgsl): the per-frame
 /// constants of the Milky Way pass (skymodel milkyway.rs
-/// `NightBackground`). 112 bytes.
+/// `NightBackground`) and of the point-source passes. 144 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct NightUniforms {
@@ -99,6 +99,24 @@ pub struct NightUniforms {
     pub floor: [f32; 4],
     /// Milky Way map width, height; extinction table nodes; reserved.
     pub dims: [u32; 4],
+    /// Point sources: tile size (px), tiles per row, first word of the
+    /// stars' and of the planets' tile lists.
+    pub tiles: [u32; 4],
+    /// Point sources: core radius r (px), reserved, 1 / (2σ²) (px⁻²), reserved.
+    pub psf: [f32; 4],
+}
+
+/// Mirror of WGSL `struct Point` (src/shaders/sky.wgsl): one point
+/// source's footprint (`himmel_skymodel::stars::SplatPlan`). 48 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct PointRecord {
+    /// Position cx, cy (px), core scale (lux), glare radius (px; 0: none).
+    pub a: [f32; 4],
+    /// Colour (linear sRGB, luminance 1), glare scale (lux).
+    pub b: [f32; 4],
+    /// ⌊cx⌋, ⌊cy⌋, cube face, 1 when checked against the ground.
+    pub c: [i32; 4],
 }
 
 /// The WGSL source of the image passes.
@@ -151,7 +169,7 @@ mod tests {
 
     #[test]
     fn night_uniforms_mirror_the_wgsl_struct() {
-        assert_eq!(size_of::<NightUniforms>(), 112);
+        assert_eq!(size_of::<NightUniforms>(), 144);
         let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).expect("layout");
@@ -173,6 +191,36 @@ mod tests {
             ("zodiacal", offset_of!(NightUniforms, zodiacal)),
             ("floor", offset_of!(NightUniforms, floor)),
             ("dims", offset_of!(NightUniforms, dims)),
+            ("tiles", offset_of!(NightUniforms, tiles)),
+            ("psf", offset_of!(NightUniforms, psf)),
+        ];
+        assert_eq!(members.len(), rust.len());
+        for (m, (name, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(name));
+            assert_eq!(m.offset as usize, off, "{name}");
+        }
+    }
+
+    /// `PointRecord` has the size and offsets naga computes for `Point`.
+    #[test]
+    fn point_record_mirrors_the_wgsl_struct() {
+        assert_eq!(size_of::<PointRecord>(), 48);
+        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Point"))
+            .expect("struct Point");
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("Point is not a struct");
+        };
+        assert_eq!(layouter[handle].size as usize, size_of::<PointRecord>());
+        let rust = [
+            ("a", offset_of!(PointRecord, a)),
+            ("b", offset_of!(PointRecord, b)),
+            ("c", offset_of!(PointRecord, c)),
         ];
         assert_eq!(members.len(), rust.len());
         for (m, (name, off)) in members.iter().zip(rust) {
@@ -243,6 +291,9 @@ mod tests {
             .iter()
             .map(|e| e.name.as_str())
             .collect();
-        assert_eq!(names, ["atmosphere", "sun", "milkyway", "store"]);
+        assert_eq!(
+            names,
+            ["atmosphere", "sun", "milkyway", "stars", "planets", "store"]
+        );
     }
 }

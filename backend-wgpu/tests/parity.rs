@@ -447,3 +447,89 @@ fn dark_night_milky_way_equirect() {
     let (_, g) = parity("dark night, Milky Way, equirect", &s);
     milkyway_ran_and_dominates(&s, &state, &g);
 }
+
+/// Pixels that are strict local maxima of luminance (3 × 3) at least
+/// `k` × the image's median luminance, brightest first.
+fn peaks(img: &HdrImage, k: f32) -> Vec<(usize, usize, f32)> {
+    let (w, h) = (img.width, img.height);
+    let y: Vec<f32> = img.pixels.iter().map(|p| luminance(*p)).collect();
+    let mut sorted = y.clone();
+    sorted.sort_by(|a, b| a.total_cmp(b));
+    let floor = sorted[sorted.len() / 2] * k;
+    let mut out = Vec::new();
+    for j in 1..h - 1 {
+        for i in 1..w - 1 {
+            let v = y[j * w + i];
+            if v <= floor || !img.valid[j * w + i] {
+                continue;
+            }
+            let local_max = (-1i64..=1).all(|dj| {
+                (-1i64..=1).all(|di| {
+                    (di == 0 && dj == 0)
+                        || y[((j as i64 + dj) as usize) * w + (i as i64 + di) as usize] < v
+                })
+            });
+            if local_max {
+                out.push((i, j, v));
+            }
+        }
+    }
+    out.sort_by(|a, b| b.2.total_cmp(&a.2));
+    out
+}
+
+/// Stars and planets on a dark night: the footprints are evaluated per
+/// pixel on the GPU from the CPU's splat plans; the luminance statistics
+/// hold and the star images peak at the same pixels.
+fn stars_parity(name: &str, p: Projection, w: u32, h: u32) {
+    let mut s = scene("2024-01-15T19:30:00Z", p, w, h);
+    s.effects = vec![Effect::Stars, Effect::Planets, Effect::Atmosphere];
+    let state = SkyState::at(&s).unwrap();
+    assert!(state.sun.alt_deg < -18.0, "{}", state.sun.alt_deg);
+    let (c, g) = parity(name, &s);
+    let out = gpu().render(&s, &state).unwrap();
+    for n in ["stars", "planets"] {
+        let p = out.passes.iter().find(|p| p.name == n).unwrap();
+        assert!(p.ran && p.ms.is_some(), "{p:?}");
+    }
+    let pc = peaks(&c, 20.0);
+    let pg = peaks(&g, 20.0);
+    assert!(pc.len() >= 50, "{name}: {} star peaks", pc.len());
+    // The 200 brightest CPU peaks are GPU peaks at the same pixel (0 px
+    // offset; the acceptance allows 0.5 px).
+    let mut same = 0;
+    for &(i, j, _) in pc.iter().take(200) {
+        if pg.iter().any(|q| q.0 == i && q.1 == j) {
+            same += 1;
+        }
+    }
+    let n = pc.len().min(200);
+    eprintln!(
+        "{name}: {} CPU peaks, {} GPU peaks, {same}/{n} brightest at the same pixel",
+        pc.len(),
+        pg.len()
+    );
+    assert_eq!(same, n, "{name}");
+}
+
+#[test]
+fn night_stars_and_planets_fisheye() {
+    stars_parity(
+        "night, stars + planets, fisheye",
+        Projection::Fisheye,
+        256,
+        256,
+    );
+}
+
+/// Equirect: footprints across the 0°/360° seam and the poles' rows,
+/// stars at the horizon (the ground check).
+#[test]
+fn night_stars_and_planets_equirect() {
+    stars_parity(
+        "night, stars + planets, equirect",
+        Projection::Equirect,
+        512,
+        256,
+    );
+}

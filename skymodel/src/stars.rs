@@ -371,15 +371,80 @@ pub fn splat_at(
     pixels: &mut [[f32; 3]],
     offset: usize,
     cam: &Camera,
-    (cx, cy): (f64, f64),
+    pos: (f64, f64),
     dir_z: f32,
     lux: f32,
     rgb: [f32; 3],
     psf: &Psf,
     scratch: &mut SplatScratch,
 ) -> f32 {
+    splat_impl(
+        Some((pixels, offset)),
+        cam,
+        pos,
+        dir_z,
+        lux,
+        psf,
+        rgb,
+        scratch,
+    )
+    .0
+}
+
+/// The footprint of one source as [`splat_at`] computes it, without
+/// depositing: for renderers that evaluate the footprint per pixel (e.g.
+/// `himmel-wgpu`). Pixel (i, j) of the core (|i − ⌊cx⌋| ≤ r, |j − ⌊cy⌋| ≤ r,
+/// (i + ½ − cx)² + (j + ½ − cy)² ≤ r² + ½, with Ω > 0, in the image or,
+/// equirect, wrapped in x, on the same cube face, above the ground when
+/// `near_horizon`) receives `core_scale` · w / Ω · rgb with w =
+/// exp(−(i + ½ − cx)²/2σ²) · exp(−(j + ½ − cy)²/2σ²); pixel (i, j) of the
+/// glare disk (distance d < `glare_r_px`, same conditions) receives
+/// `glare_scale` · (1 − d / R)² / Ω · rgb. `None` when nothing is deposited.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SplatPlan {
+    /// Continuous image position of the source, px.
+    pub pos: (f64, f64),
+    /// The cube face of the source (cube maps), ⌊cx / H⌋.
+    pub face: i64,
+    /// Whether footprint pixels are checked against the ground.
+    pub near_horizon: bool,
+    /// Core radius r = ⌈2.5 σ⌉, px.
+    pub r: i64,
+    /// 1 / (2σ²), px⁻².
+    pub inv2s2: f32,
+    /// Core flux over the sum of the core weights, lux.
+    pub core_scale: f32,
+    /// Glare disk radius R, px (0: no glare).
+    pub glare_r_px: f32,
+    /// Glare flux over the sum of the glare weights, lux.
+    pub glare_scale: f32,
+}
+
+/// [`SplatPlan`] of a source (arguments as [`splat_at`]).
+pub fn splat_plan(
+    cam: &Camera,
+    pos: (f64, f64),
+    dir_z: f32,
+    lux: f32,
+    psf: &Psf,
+    scratch: &mut SplatScratch,
+) -> Option<SplatPlan> {
+    splat_impl(None, cam, pos, dir_z, lux, psf, [1.0; 3], scratch).1
+}
+
+#[allow(clippy::too_many_arguments)]
+fn splat_impl(
+    mut out: Option<(&mut [[f32; 3]], usize)>,
+    cam: &Camera,
+    (cx, cy): (f64, f64),
+    dir_z: f32,
+    lux: f32,
+    psf: &Psf,
+    rgb: [f32; 3],
+    scratch: &mut SplatScratch,
+) -> (f32, Option<SplatPlan>) {
     if lux <= 0.0 || !lux.is_finite() {
-        return 0.0;
+        return (0.0, None);
     }
     let (w, h) = cam.image_size();
     let (w, h) = (w as i64, h as i64);
@@ -429,7 +494,7 @@ pub fn splat_at(
         }
     }
     if sum <= 0.0 {
-        return 0.0;
+        return (0.0, None);
     }
     // Split the flux between the core and the glare.
     let peak_l = lux * peak.0 / sum / peak.1;
@@ -438,10 +503,22 @@ pub fn splat_at(
     } else {
         lux
     };
-    deposit(pixels, offset, taps, core_lux / sum, rgb);
+    if let Some((pixels, offset)) = out.as_mut() {
+        deposit(pixels, *offset, taps, core_lux / sum, rgb);
+    }
+    let mut plan = SplatPlan {
+        pos: (cx, cy),
+        face,
+        near_horizon,
+        r,
+        inv2s2,
+        core_scale: core_lux / sum,
+        glare_r_px: 0.0,
+        glare_scale: 0.0,
+    };
     let excess = lux - core_lux;
     if excess <= 0.0 {
-        return lux;
+        return (lux, Some(plan));
     }
     // Glare disk: peak ≈ white, radius from the excess flux.
     let r_px = (psf.glare
@@ -474,10 +551,14 @@ pub fn splat_at(
         }
     }
     if gsum <= 0.0 {
-        return core_lux;
+        return (core_lux, Some(plan));
     }
-    deposit(pixels, offset, taps, excess / gsum, rgb);
-    lux
+    if let Some((pixels, offset)) = out {
+        deposit(pixels, offset, taps, excess / gsum, rgb);
+    }
+    plan.glare_r_px = r_px;
+    plan.glare_scale = excess / gsum;
+    (lux, Some(plan))
 }
 
 /// The peak luminance (cd/m²) that the core of a source of illuminance

@@ -4,8 +4,8 @@
 // vec4 per pixel of the image (a cube map is the 6H×H strip of
 // conventions.md), back to front; `store` then writes the sum into the
 // rgba32float target texture (one layer, or six cube faces), alpha = 1
-// where the projection shows the scene. New passes (Moon, stars, planets)
-// are further entry points of the same shape.
+// where the projection shows the scene. New passes (the Moon) are further
+// entry points of the same shape.
 //
 // The Rust mirror of `Frame` is `FrameUniforms` (src/uniforms.rs); a test
 // checks the layout naga computes for this struct against it.
@@ -53,6 +53,21 @@ struct Night {
     floor: vec4<f32>,
     // Milky Way map width, height; extinction table nodes; reserved
     dims: vec4<u32>,
+    // point sources: tile size (px), tiles per row, first word of the
+    // stars' and of the planets' tile lists in `tiles`
+    tiles: vec4<u32>,
+    // point sources: core radius r (px), reserved; 1 / (2σ²) (px⁻²), reserved
+    psf: vec4<f32>,
+}
+
+// One point source's footprint (stars.rs `SplatPlan`; equirect sources
+// near the seam have one copy per wrap): position (px), core scale, glare
+// radius (px); colour (luminance 1), glare scale; ⌊cx⌋, ⌊cy⌋, cube face,
+// 1 when checked against the ground.
+struct Point {
+    a: vec4<f32>,
+    b: vec4<f32>,
+    c: vec4<i32>,
 }
 
 @group(0) @binding(5) var<uniform> night: Night;
@@ -62,6 +77,10 @@ struct Night {
 // extinction at μ = i / (n − 1): linear sRGB factors; w: the refraction
 // (rad) to take off the apparent altitude asin μ
 @group(0) @binding(7) var<storage, read> extinction: array<vec4<f32>>;
+@group(0) @binding(8) var<storage, read> points: array<Point>;
+// per list: the first index of each tile (tiles + 1 words, absolute), then
+// the point indices of every tile
+@group(0) @binding(9) var<storage, read> tiles: array<u32>;
 
 const PI: f32 = 3.14159265358979;
 const HALF_PI: f32 = 1.57079632679490;
@@ -323,6 +342,121 @@ fn milkyway(@builtin(global_invocation_id) gid: vec3<u32>) {
     let l = milkyway_map(u) + night.floor.xyz + night.zodiacal.xyz * zl + night.airglow.xyz * ag;
     let i = gid.y * frame.size.x + gid.x;
     accum[i] = accum[i] + vec4<f32>(l * t.xyz, 0.0);
+}
+
+// The solid angle (sr) of the pixel centred at (px, py): projection.rs
+// `Camera::pixel_solid_angle` in f32.
+fn pixel_omega(px: f32, py: f32) -> f32 {
+    let w = f32(frame.size.x);
+    let h = f32(frame.size.y);
+    let p = frame.size.z;
+    if (p == 0u) {
+        let a = HALF_PI / (min(w, h) * 0.5);
+        let dx = px - w * 0.5;
+        let dy = py - h * 0.5;
+        let z = a * sqrt(dx * dx + dy * dy);
+        if (z > PI) {
+            return 0.0;
+        }
+        if (z < 1e-9) {
+            return a * a;
+        }
+        return a * a * sin(z) / z;
+    } else if (p == 1u) {
+        let row = floor(py);
+        let h0 = HALF_PI - PI * (row + 1.0) / h;
+        let h1 = HALF_PI - PI * row / h;
+        return TAU / w * abs(sin(h1) - sin(h0));
+    }
+    var s = 2.0 / h;
+    var x = 0.0;
+    if (p == 2u) {
+        s = 2.0 * frame.persp_f.w / h;
+        x = (px - w * 0.5) * s;
+    } else {
+        let face = clamp(floor(px / h), 0.0, 5.0);
+        x = (px - face * h) * s - 1.0;
+    }
+    var y = (py - h * 0.5) * s;
+    if (p == 3u) {
+        y = py * s - 1.0;
+    }
+    let q = 1.0 + x * x + y * y;
+    return s * s / (q * sqrt(q));
+}
+
+// Point sources (stars.rs `splat_at`): each pixel sums the footprints of
+// the sources listed for its 16 × 16 tile (no atomics): the Gaussian core
+// (weights normalised on the CPU) and the glare disk, over the pixel's
+// solid angle.
+fn point_sources(gid: vec3<u32>, base: u32) {
+    if (!inside(gid)) {
+        return;
+    }
+    let px = gid.x;
+    let py = gid.y + frame.band.x;
+    let ts = night.tiles.x;
+    let t = (py / ts) * night.tiles.y + px / ts;
+    let s0 = tiles[base + t];
+    let s1 = tiles[base + t + 1u];
+    if (s0 == s1) {
+        return;
+    }
+    let fx = f32(px) + 0.5;
+    let fy = f32(py) + 0.5;
+    let omega = pixel_omega(fx, fy);
+    if (omega <= 0.0) {
+        return;
+    }
+    let d = pixel_dir(fx, fy);
+    let below = d.w == 0.0 || d.z < 0.0;
+    var face = 0;
+    if (frame.size.z == 3u) {
+        face = i32(px / frame.size.w);
+    }
+    let r = i32(night.psf.x);
+    let rr = night.psf.x * night.psf.x + 0.5;
+    let inv2s2 = night.psf.z;
+    var acc = vec3<f32>(0.0);
+    for (var k = s0; k < s1; k = k + 1u) {
+        let s = points[tiles[k]];
+        if ((s.c.w != 0 && below) || (frame.size.z == 3u && s.c.z != face)) {
+            continue;
+        }
+        let di = i32(px) - s.c.x;
+        let dj = i32(py) - s.c.y;
+        let dx = fx - s.a.x;
+        let dy = fy - s.a.y;
+        let d2 = dx * dx + dy * dy;
+        var v = 0.0;
+        if (abs(di) <= r && abs(dj) <= r && d2 <= rr) {
+            v = s.a.z * exp(-(dx * dx) * inv2s2) * exp(-(dy * dy) * inv2s2);
+        }
+        let rg = s.a.w;
+        if (rg > 0.0) {
+            let dd = sqrt(d2);
+            let rgi = i32(ceil(rg));
+            if (abs(di) <= rgi && abs(dj) <= rgi && dd < rg) {
+                let x = 1.0 - dd / rg;
+                v = v + s.b.w * x * x;
+            }
+        }
+        acc = acc + v * s.b.xyz;
+    }
+    let i = gid.y * frame.size.x + gid.x;
+    accum[i] = accum[i] + vec4<f32>(acc / omega, 0.0);
+}
+
+// Stars pass: the catalogue stars' footprints.
+@compute @workgroup_size(8, 8, 1)
+fn stars(@builtin(global_invocation_id) gid: vec3<u32>) {
+    point_sources(gid, night.tiles.z);
+}
+
+// Planets pass: Mercury–Saturn's footprints.
+@compute @workgroup_size(8, 8, 1)
+fn planets(@builtin(global_invocation_id) gid: vec3<u32>) {
+    point_sources(gid, night.tiles.w);
 }
 
 // Writes the accumulated radiance into the target (cube maps: face =
