@@ -23,7 +23,20 @@
 //!   pixels near the disk with [`himmel_cpu::SUN_SUPERSAMPLING`]² sub-pixel
 //!   directions, as the CPU does.
 //!
-//! Adding a pass (Moon, stars, planets, Milky Way): a WGSL entry point of
+//! * Milky Way / night-sky light: skymodel milkyway.rs
+//!   `NightBackground::radiance` per pixel (map uploaded once as a storage
+//!   buffer, floor, zodiacal light, airglow; per-frame constants in
+//!   [`NightUniforms`]) times the CPU's `Extinction` table, whose fourth lane
+//!   carries the refraction `unrefracted` takes off low altitudes
+//!   ([`night_inputs`]).
+//! * Stars and planets: the CPU computes each source's footprint as its
+//!   splat does (`himmel_skymodel::stars::splat_plan`: position,
+//!   extinction, normalisations of the core and the glare disk) and bins it
+//!   into [`POINT_TILE`]² tiles ([`point_lists`]); one invocation per pixel
+//!   sums the footprints of its tile's list over the pixel's solid angle (no
+//!   atomics).
+//!
+//! Adding a pass (the Moon): a WGSL entry point of
 //! the same shape as `atmosphere`/`sun` that adds into `accum` (extra
 //! tables go into further bindings, or a second bind group), a pipeline in
 //! `Pipelines`, and its `Effect` arm where `render_frame` maps planned
