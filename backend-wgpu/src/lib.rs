@@ -619,8 +619,10 @@ impl WgpuRenderer {
             ),
             None => (Vec::new(), Vec::new()),
         };
-        let (points, tile_words, tiles) = point_lists(&cam, &[&star_plans, &planet_plans]);
+        let (points, tile_words, tiles, active) = point_lists(&cam, &[&star_plans, &planet_plans]);
         night_u.tiles = tiles;
+        night_u.busy = [active[0].0, active[1].0, active[0].1, active[1].1];
+        let active = [active[0].1, active[1].1];
         if let Some((p, _)) = star_plans.first().or(planet_plans.first()) {
             night_u.psf = [p.r as f32, 0.0, p.inv2s2, 0.0];
         }
@@ -762,20 +764,22 @@ impl WgpuRenderer {
             })
             .collect();
         // Passes back to front, then `store`, band by band.
-        let mut runs: Vec<(String, &wgpu::ComputePipeline, bool)> = Vec::new();
+        // Dispatch shape: 0 the band, 1 the Sun's rectangle, 2/3 the
+        // stars'/planets' non-empty tiles.
+        let mut runs: Vec<(String, &wgpu::ComputePipeline, u8)> = Vec::new();
         let mut stats = Vec::new();
         for planned in &state.passes {
             let culled = culled_reason(planned.effect);
             let run = planned.run && culled.is_none();
             if run {
-                let (p, is_sun) = match planned.effect {
-                    Effect::Atmosphere => (&self.pipelines.atmosphere, false),
-                    Effect::Milkyway => (&self.pipelines.milkyway, false),
-                    Effect::Stars => (&self.pipelines.stars, false),
-                    Effect::Planets => (&self.pipelines.planets, false),
-                    _ => (&self.pipelines.sun, true),
+                let (p, shape) = match planned.effect {
+                    Effect::Atmosphere => (&self.pipelines.atmosphere, 0),
+                    Effect::Milkyway => (&self.pipelines.milkyway, 0),
+                    Effect::Stars => (&self.pipelines.stars, 2),
+                    Effect::Planets => (&self.pipelines.planets, 3),
+                    _ => (&self.pipelines.sun, 1),
                 };
-                runs.push((planned.effect.name().into(), p, is_sun));
+                runs.push((planned.effect.name().into(), p, shape));
             }
             stats.push(PassStat {
                 name: planned.effect.name().into(),
@@ -784,7 +788,7 @@ impl WgpuRenderer {
                 reason: planned.reason.clone().or(culled),
             });
         }
-        runs.push(("store".into(), &self.pipelines.store, false));
+        runs.push(("store".into(), &self.pipelines.store, 0));
         let n_runs = runs.len();
         let queries = self.timestamps.then(|| {
             dev.create_query_set(&wgpu::QuerySetDescriptor {
@@ -799,16 +803,23 @@ impl WgpuRenderer {
         let mut cpu_ms = vec![0.0; n_runs];
         for (b, &(row0, rows)) in bands.iter().enumerate() {
             enc.clear_buffer(&accum, 0, None);
-            for (k, (name, pipeline, is_sun)) in runs.iter().enumerate() {
-                let g = if *is_sun {
-                    let y0 = band_frames[b].opts[2];
-                    let y1 = sun_rect.3.clamp(row0, row0 + rows);
-                    (
-                        (sun_rect.2 - sun_rect.0).div_ceil(8),
-                        y1.saturating_sub(y0).div_ceil(8),
-                    )
-                } else {
-                    (w.div_ceil(8), rows.div_ceil(8))
+            for (k, (name, pipeline, shape)) in runs.iter().enumerate() {
+                let g = match shape {
+                    1 => {
+                        let y0 = band_frames[b].opts[2];
+                        let y1 = sun_rect.3.clamp(row0, row0 + rows);
+                        (
+                            (sun_rect.2 - sun_rect.0).div_ceil(8),
+                            y1.saturating_sub(y0).div_ceil(8),
+                        )
+                    }
+                    2 | 3 => {
+                        // One 16 × 16 workgroup per non-empty tile, in rows
+                        // of at most ACTIVE_ROW workgroups.
+                        let n = active[(*shape - 2) as usize];
+                        (n.min(ACTIVE_ROW), n.div_ceil(ACTIVE_ROW))
+                    }
+                    _ => (w.div_ceil(8), rows.div_ceil(8)),
                 };
                 let q = 2 * (b * n_runs + k) as u32;
                 let t0 = Clock::now();
@@ -1260,6 +1271,7 @@ pub fn night_inputs(
     let row = |i: usize, w: f32| [m.x_axis[i], m.y_axis[i], m.z_axis[i], w];
     let u = NightUniforms {
         tiles: [POINT_TILE, 1, 0, 0],
+        busy: [0; 4],
         psf: [0.0; 4],
         enu_to_icrs_x: row(0, se),
         enu_to_icrs_y: row(1, ce),
@@ -1272,20 +1284,26 @@ pub fn night_inputs(
     (u, rows)
 }
 
-/// Tile size (px) of the point-source lists.
+/// Tile size (px) of the point-source lists (the workgroup size of the
+/// `stars` and `planets` entry points, 16 × 16).
 pub const POINT_TILE: u32 = 16;
+
+/// Workgroups per dispatch row of the point passes (one per non-empty tile).
+const ACTIVE_ROW: u32 = 32768;
 
 /// The point sources of the GPU's point passes: one [`PointRecord`] per
 /// footprint (equirect footprints that cross the 0°/360° seam once per
 /// wrap, as the CPU's `pixel_index` wraps them) and, per list in `lists`
 /// (stars, planets), the records that may touch each
 /// [`POINT_TILE`]² tile: `tiles + 1` absolute start words, then the
-/// record indices. Returns the records, the words and `Night.tiles` (tile
-/// size, tiles per row, first word of each list).
+/// record indices, then the indices of the non-empty tiles. Returns the
+/// records, the words, `Night.tiles` (tile size, tiles per row, first word
+/// of each list) and per list the first word and the number of its
+/// non-empty tiles.
 pub fn point_lists(
     cam: &Camera,
     lists: &[&[(himmel_skymodel::stars::SplatPlan, [f32; 3])]; 2],
-) -> (Vec<PointRecord>, Vec<u32>, [u32; 4]) {
+) -> (Vec<PointRecord>, Vec<u32>, [u32; 4], [(u32, u32); 2]) {
     let (w, h) = cam.image_size();
     let (w, h) = (w as i64, h as i64);
     let ts = POINT_TILE as i64;
@@ -1294,6 +1312,7 @@ pub fn point_lists(
     let mut records = Vec::new();
     let mut words = Vec::new();
     let mut bases = [0u32; 2];
+    let mut active = [(0u32, 0u32); 2];
     for (l, plans) in lists.iter().enumerate() {
         let mut per_tile: Vec<Vec<u32>> = vec![Vec::new(); n_tiles];
         for (plan, rgb) in plans.iter() {
@@ -1341,14 +1360,28 @@ pub fn point_lists(
             at += t.len() as u32;
         }
         words.push(at);
-        for t in per_tile {
+        for t in &per_tile {
             words.extend(t);
         }
+        let first = words.len() as u32;
+        words.extend(
+            per_tile
+                .iter()
+                .enumerate()
+                .filter(|(_, t)| !t.is_empty())
+                .map(|(i, _)| i as u32),
+        );
+        active[l] = (first, words.len() as u32 - first);
     }
     if records.is_empty() {
         records.push(bytemuck::Zeroable::zeroed());
     }
-    (records, words, [POINT_TILE, tx as u32, bases[0], bases[1]])
+    (
+        records,
+        words,
+        [POINT_TILE, tx as u32, bases[0], bases[1]],
+        active,
+    )
 }
 
 /// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose

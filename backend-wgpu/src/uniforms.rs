@@ -81,7 +81,7 @@ pub struct AtmosphereUniforms {
 
 /// Mirror of WGSL `struct Night` (src/shaders/sky.wgsl): the per-frame
 /// constants of the Milky Way pass (skymodel milkyway.rs
-/// `NightBackground`) and of the point-source passes. 144 bytes.
+/// `NightBackground`) and of the point-source passes. 160 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct NightUniforms {
@@ -104,6 +104,9 @@ pub struct NightUniforms {
     pub tiles: [u32; 4],
     /// Point sources: core radius r (px), reserved, 1 / (2σ²) (px⁻²), reserved.
     pub psf: [f32; 4],
+    /// Point sources: first word of the stars' and of the planets'
+    /// non-empty tile indices, and their numbers.
+    pub busy: [u32; 4],
 }
 
 /// Mirror of WGSL `struct Point` (src/shaders/sky.wgsl): one point
@@ -169,7 +172,7 @@ mod tests {
 
     #[test]
     fn night_uniforms_mirror_the_wgsl_struct() {
-        assert_eq!(size_of::<NightUniforms>(), 144);
+        assert_eq!(size_of::<NightUniforms>(), 160);
         let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
         let mut layouter = naga::proc::Layouter::default();
         layouter.update(module.to_ctx()).expect("layout");
@@ -193,6 +196,7 @@ mod tests {
             ("dims", offset_of!(NightUniforms, dims)),
             ("tiles", offset_of!(NightUniforms, tiles)),
             ("psf", offset_of!(NightUniforms, psf)),
+            ("busy", offset_of!(NightUniforms, busy)),
         ];
         assert_eq!(members.len(), rust.len());
         for (m, (name, off)) in members.iter().zip(rust) {

@@ -58,6 +58,9 @@ struct Night {
     tiles: vec4<u32>,
     // point sources: core radius r (px), reserved; 1 / (2σ²) (px⁻²), reserved
     psf: vec4<f32>,
+    // point sources: first word of the stars' and of the planets' non-empty
+    // tile indices in `tiles`, and their numbers
+    busy: vec4<u32>,
 }
 
 // One point source's footprint (stars.rs `SplatPlan`; equirect sources
@@ -79,7 +82,7 @@ struct Point {
 @group(0) @binding(7) var<storage, read> extinction: array<vec4<f32>>;
 @group(0) @binding(8) var<storage, read> points: array<Point>;
 // per list: the first index of each tile (tiles + 1 words, absolute), then
-// the point indices of every tile
+// the point indices of every tile, then the indices of the non-empty tiles
 @group(0) @binding(9) var<storage, read> tiles: array<u32>;
 
 const PI: f32 = 3.14159265358979;
@@ -388,15 +391,19 @@ fn pixel_omega(px: f32, py: f32) -> f32 {
 // Point sources (stars.rs `splat_at`): each pixel sums the footprints of
 // the sources listed for its 16 × 16 tile (no atomics): the Gaussian core
 // (weights normalised on the CPU) and the glare disk, over the pixel's
-// solid angle.
-fn point_sources(gid: vec3<u32>, base: u32) {
-    if (!inside(gid)) {
+// solid angle. One workgroup per non-empty tile (`busy` words on).
+fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first: u32, n: u32) {
+    let k = wg.y * nwg.x + wg.x;
+    if (k >= n) {
         return;
     }
-    let px = gid.x;
-    let py = gid.y + frame.band.x;
+    let t = tiles[first + k];
     let ts = night.tiles.x;
-    let t = (py / ts) * night.tiles.y + px / ts;
+    let px = (t % night.tiles.y) * ts + lid.x;
+    let py = (t / night.tiles.y) * ts + lid.y;
+    if (px >= frame.size.x || py < frame.band.x || py >= frame.band.x + frame.band.y) {
+        return;
+    }
     let s0 = tiles[base + t];
     let s1 = tiles[base + t + 1u];
     if (s0 == s1) {
@@ -443,20 +450,28 @@ fn point_sources(gid: vec3<u32>, base: u32) {
         }
         acc = acc + v * s.b.xyz;
     }
-    let i = gid.y * frame.size.x + gid.x;
+    let i = (py - frame.band.x) * frame.size.x + px;
     accum[i] = accum[i] + vec4<f32>(acc / omega, 0.0);
 }
 
 // Stars pass: the catalogue stars' footprints.
-@compute @workgroup_size(8, 8, 1)
-fn stars(@builtin(global_invocation_id) gid: vec3<u32>) {
-    point_sources(gid, night.tiles.z);
+@compute @workgroup_size(16, 16, 1)
+fn stars(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    point_sources(wg, nwg, lid, night.tiles.z, night.busy.x, night.busy.z);
 }
 
 // Planets pass: Mercury–Saturn's footprints.
-@compute @workgroup_size(8, 8, 1)
-fn planets(@builtin(global_invocation_id) gid: vec3<u32>) {
-    point_sources(gid, night.tiles.w);
+@compute @workgroup_size(16, 16, 1)
+fn planets(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    point_sources(wg, nwg, lid, night.tiles.w, night.busy.y, night.busy.w);
 }
 
 // Writes the accumulated radiance into the target (cube maps: face =
