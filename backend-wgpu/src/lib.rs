@@ -619,10 +619,15 @@ impl WgpuRenderer {
             ),
             None => (Vec::new(), Vec::new()),
         };
-        let (points, tile_words, tiles, active) = point_lists(&cam, &[&star_plans, &planet_plans]);
+        let PointLists {
+            records: points,
+            words: tile_words,
+            tiles,
+            busy,
+        } = point_lists(&cam, &[&star_plans, &planet_plans]);
         night_u.tiles = tiles;
-        night_u.busy = [active[0].0, active[1].0, active[0].1, active[1].1];
-        let active = [active[0].1, active[1].1];
+        night_u.busy = [busy[0].0, busy[1].0, busy[0].1, busy[1].1];
+        let active = [busy[0].1, busy[1].1];
         if let Some((p, _)) = star_plans.first().or(planet_plans.first()) {
             night_u.psf = [p.r as f32, 0.0, p.inv2s2, 0.0];
         }
@@ -1291,6 +1296,19 @@ pub const POINT_TILE: u32 = 16;
 /// Workgroups per dispatch row of the point passes (one per non-empty tile).
 const ACTIVE_ROW: u32 = 32768;
 
+/// The output of [`point_lists`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointLists {
+    /// One record per footprint (and wrap).
+    pub records: Vec<PointRecord>,
+    /// Per list: tile start words, record indices, non-empty tile indices.
+    pub words: Vec<u32>,
+    /// `Night.tiles`: tile size, tiles per row, first word of each list.
+    pub tiles: [u32; 4],
+    /// Per list: the first word and the number of its non-empty tiles.
+    pub busy: [(u32, u32); 2],
+}
+
 /// The point sources of the GPU's point passes: one [`PointRecord`] per
 /// footprint (equirect footprints that cross the 0°/360° seam once per
 /// wrap, as the CPU's `pixel_index` wraps them) and, per list in `lists`
@@ -1303,7 +1321,7 @@ const ACTIVE_ROW: u32 = 32768;
 pub fn point_lists(
     cam: &Camera,
     lists: &[&[(himmel_skymodel::stars::SplatPlan, [f32; 3])]; 2],
-) -> (Vec<PointRecord>, Vec<u32>, [u32; 4], [(u32, u32); 2]) {
+) -> PointLists {
     let (w, h) = cam.image_size();
     let (w, h) = (w as i64, h as i64);
     let ts = POINT_TILE as i64;
@@ -1376,12 +1394,12 @@ pub fn point_lists(
     if records.is_empty() {
         records.push(bytemuck::Zeroable::zeroed());
     }
-    (
+    PointLists {
         records,
         words,
-        [POINT_TILE, tx as u32, bases[0], bases[1]],
-        active,
-    )
+        tiles: [POINT_TILE, tx as u32, bases[0], bases[1]],
+        busy: active,
+    }
 }
 
 /// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose
