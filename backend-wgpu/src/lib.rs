@@ -1255,7 +1255,8 @@ pub fn night_inputs(
             let r0 = l.medium.bottom + state.observer_altitude_km as f32;
             Extinction::from_transmittance(|mu| l.sun_transmittance(r0, mu))
         }
-        None => Extinction::none(),
+        // Factors of 1, tabulated at the full resolution for the refraction lane.
+        None => Extinction::from_transmittance(|_| himmel_skymodel::spectrum::Spectrum::ONE),
     };
     let table = extinction.table();
     let n = table.len();
