@@ -819,7 +819,7 @@ impl WgpuRenderer {
                         )
                     }
                     2 | 3 => {
-                        // One 16 × 16 workgroup per non-empty tile, in rows
+                        // One 8 × 8 workgroup per non-empty tile, in rows
                         // of at most ACTIVE_ROW workgroups.
                         let n = active[(*shape - 2) as usize];
                         (n.min(ACTIVE_ROW), n.div_ceil(ACTIVE_ROW))
@@ -1291,8 +1291,8 @@ pub fn night_inputs(
 }
 
 /// Tile size (px) of the point-source lists (the workgroup size of the
-/// `stars` and `planets` entry points, 16 × 16).
-pub const POINT_TILE: u32 = 16;
+/// `stars` and `planets` entry points, 8 × 8).
+pub const POINT_TILE: u32 = 8;
 
 /// Workgroups per dispatch row of the point passes (one per non-empty tile).
 const ACTIVE_ROW: u32 = 32768;
@@ -1543,6 +1543,17 @@ impl SkyRenderer for WgpuRenderer {
 mod tests {
     use super::*;
     use himmel_skymodel::projection::enu_from_alt_az;
+
+    /// The point passes run one workgroup per tile: their workgroup size
+    /// is the tile size.
+    #[test]
+    fn point_workgroups_are_tiles() {
+        let module = naga::front::wgsl::parse_str(uniforms::SKY_WGSL).expect("sky.wgsl parses");
+        for name in ["stars", "planets"] {
+            let e = module.entry_points.iter().find(|e| e.name == name).unwrap();
+            assert_eq!(e.workgroup_size, [POINT_TILE, POINT_TILE, 1], "{name}");
+        }
+    }
 
     /// Every pixel centre within the margin of the Sun lies in the Sun
     /// pass's rectangle: equirect seam and poles, fisheye horizon and

@@ -389,7 +389,7 @@ fn pixel_omega(px: f32, py: f32) -> f32 {
 }
 
 // Point sources (stars.rs `splat_at`): each pixel sums the footprints of
-// the sources listed for its 16 × 16 tile (no atomics): the Gaussian core
+// the sources listed for its 8 × 8 tile (no atomics): the Gaussian core
 // (weights normalised on the CPU) and the glare disk, over the pixel's
 // solid angle. One workgroup per non-empty tile (`busy` words on).
 fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first: u32, n: u32) {
@@ -455,7 +455,7 @@ fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first
 }
 
 // Stars pass: the catalogue stars' footprints.
-@compute @workgroup_size(16, 16, 1)
+@compute @workgroup_size(8, 8, 1)
 fn stars(
     @builtin(workgroup_id) wg: vec3<u32>,
     @builtin(num_workgroups) nwg: vec3<u32>,
@@ -465,7 +465,7 @@ fn stars(
 }
 
 // Planets pass: Mercury–Saturn's footprints.
-@compute @workgroup_size(16, 16, 1)
+@compute @workgroup_size(8, 8, 1)
 fn planets(
     @builtin(workgroup_id) wg: vec3<u32>,
     @builtin(num_workgroups) nwg: vec3<u32>,
