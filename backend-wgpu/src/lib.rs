@@ -423,6 +423,20 @@ impl WgpuRenderer {
                 .and_then(|f| f.reason(e))
                 .map(str::to_string)
         };
+        // The moonlit sky (a second sky view lit from the Moon, part of the
+        // CPU's atmosphere pass) is not ported either: a frame that needs it
+        // must not silently lose it.
+        if state.runs(Effect::Atmosphere) {
+            let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
+            if himmel_skymodel::moon::moonlight_scale(scene, &state.sun, &state.moon, pole)
+                .is_some()
+            {
+                return Err(RenderError::Unavailable(
+                    "the moonlit sky (the Moon above -6° at night) is not yet available in the wgpu backend"
+                        .into(),
+                ));
+            }
+        }
         for p in state.passes.iter().filter(|p| p.run) {
             if culled_reason(p.effect).is_some() {
                 continue;
