@@ -15,7 +15,11 @@
 //!   LUT (Hillaire 2020) are computed on the CPU by `himmel-cpu`
 //!   (in-memory and on-disk cache) and uploaded; the shader computes each
 //!   pixel's view direction from the projection (projection.rs in f32) and
-//!   looks the sky view up bilinearly (lut.rs `SkyView::radiance`).
+//!   looks the sky view up bilinearly (lut.rs `SkyView::radiance`). On a
+//!   moonlit night (`himmel_skymodel::moon::moonlight_scale`) a second sky
+//!   view lit from the Moon follows the Sun's in the same buffer and the
+//!   shader adds its lookup with the Moon's direction (cpu lib.rs
+//!   `SkyLight`).
 //! * Sun: the disk (limb darkening of Hestroffer & Magnan 1998, extinction
 //!   by the transmittance LUT) is tabulated on the CPU as linear sRGB over
 //!   (normalised disk radius ρ, line-of-sight zenith cosine) — the exact
@@ -423,20 +427,6 @@ impl WgpuRenderer {
                 .and_then(|f| f.reason(e))
                 .map(str::to_string)
         };
-        // The moonlit sky (a second sky view lit from the Moon, part of the
-        // CPU's atmosphere pass) is not ported either: a frame that needs it
-        // must not silently lose it.
-        if state.runs(Effect::Atmosphere) {
-            let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
-            if himmel_skymodel::moon::moonlight_scale(scene, &state.sun, &state.moon, pole)
-                .is_some()
-            {
-                return Err(RenderError::Unavailable(
-                    "the moonlit sky (the Moon above -6° at night) is not yet available in the wgpu backend"
-                        .into(),
-                ));
-            }
-        }
         for p in state.passes.iter().filter(|p| p.run) {
             if culled_reason(p.effect).is_some() {
                 continue;
@@ -488,15 +478,30 @@ impl WgpuRenderer {
         let mut sky_view_ms = 0.0;
         let (mut sky_w, mut sky_h) = (1u32, 1u32);
         let mut sky = None;
+        let mut moon_light = [0.0f32; 4];
         if atmosphere {
             let tp = Clock::now();
             let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
             lut_source = source;
-            let input = SkyViewInput {
+            let mut inputs = vec![SkyViewInput {
                 observer_altitude_km: state.observer_altitude_km as f32,
                 sun_sin_elevation: sun_dir.z,
                 irradiance_scale: state.sun.sky_irradiance_scale() as f32,
-            };
+            }];
+            // The moonlit sky (cpu lib.rs `SkyLight`): a second sky view lit
+            // from the Moon, looked up with the Moon's direction.
+            let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
+            if let Some(scale) =
+                himmel_skymodel::moon::moonlight_scale(scene, &state.sun, &state.moon, pole)
+            {
+                let dir = state.moon.dir().as_vec3().normalize();
+                inputs.push(SkyViewInput {
+                    observer_altitude_km: state.observer_altitude_km as f32,
+                    sun_sin_elevation: dir.z,
+                    irradiance_scale: scale as f32,
+                });
+                moon_light = [dir.x, dir.y, dir.z, 1.0];
+            }
             sky_w = luts.config.sky_view_w as u32;
             sky_h = luts.config.sky_view_h as u32;
             if self.sky_view_on_gpu {
@@ -509,21 +514,19 @@ impl WgpuRenderer {
                     &self.skyview,
                     gl,
                     luts,
-                    &input,
+                    &inputs,
                 )?);
                 sky_view_ms = ms(tsv);
             } else {
                 precompute_ms = ms(tp);
                 let tsv = Clock::now();
-                let sv = himmel_cpu::sky_view(luts, &input);
-                let mut rgba: Vec<[f32; 4]> = sv
-                    .lut
-                    .data
-                    .iter()
-                    .map(|p| [p[0], p[1], p[2], 0.0])
-                    .collect();
-                let g = sv.ground_rgb;
-                rgba.push([g[0], g[1], g[2], 0.0]);
+                let mut rgba: Vec<[f32; 4]> = Vec::new();
+                for input in &inputs {
+                    let sv = himmel_cpu::sky_view(luts, input);
+                    rgba.extend(sv.lut.data.iter().map(|p| [p[0], p[1], p[2], 0.0]));
+                    let g = sv.ground_rgb;
+                    rgba.push([g[0], g[1], g[2], 0.0]);
+                }
                 sky = Some(
                     self.device
                         .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -593,6 +596,7 @@ impl WgpuRenderer {
                 0,
             ],
             band: [0, h, 0, 0],
+            moon: moon_light,
         };
 
         // The Milky Way pass's constants, map and extinction table (dummies
@@ -1173,79 +1177,91 @@ pub fn atmosphere_uniforms(luts: &AtmosphereLuts, input: &SkyViewInput) -> Atmos
     }
 }
 
-/// Computes the sky-view LUT and the ground luminance on the GPU; returns
-/// the buffer (w × h texels, then the ground), after completion.
+/// Computes the sky-view LUT and the ground luminance on the GPU for each
+/// of `inputs` (the Sun's, then the Moon's on a moonlit night); returns the
+/// buffer (per input: w × h texels, then the ground), after completion.
 fn gpu_sky_view(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     p: &SkyViewPipelines,
     gl: &GpuLuts,
     luts: &AtmosphereLuts,
-    input: &SkyViewInput,
+    inputs: &[SkyViewInput],
 ) -> Result<wgpu::Buffer, RenderError> {
-    let u = atmosphere_uniforms(luts, input);
-    let (w, h) = (u.dims2[0], u.dims2[1]);
-    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some("atmosphere"),
-        contents: bytemuck::bytes_of(&u),
-        usage: wgpu::BufferUsages::UNIFORM,
-    });
-    let sky = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sky view"),
-        size: (w as u64 * h as u64 + 1) * 16,
-        usage: wgpu::BufferUsages::STORAGE,
+    let (w, h) = (luts.config.sky_view_w as u32, luts.config.sky_view_h as u32);
+    let view_bytes = (w as u64 * h as u64 + 1) * 16;
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("sky views"),
+        size: view_bytes * inputs.len().max(1) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("sky view"),
-        layout: &p.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: gl.trans.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: gl.trans_s.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: gl.multi.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: sky.as_entire_binding(),
-            },
-        ],
-    });
     let mut enc = device.create_command_encoder(&Default::default());
-    {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+    for (k, input) in inputs.iter().enumerate() {
+        let u = atmosphere_uniforms(luts, input);
+        debug_assert_eq!((u.dims2[0], u.dims2[1]), (w, h));
+        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("atmosphere"),
+            contents: bytemuck::bytes_of(&u),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+        let sky = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("sky view"),
-            timestamp_writes: None,
+            size: view_bytes,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
         });
-        pass.set_pipeline(&p.sky_view);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
-    }
-    {
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("ground"),
-            timestamp_writes: None,
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sky view"),
+            layout: &p.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: gl.trans.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: gl.trans_s.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: gl.multi.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: sky.as_entire_binding(),
+                },
+            ],
         });
-        pass.set_pipeline(&p.ground);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups(1, 1, 1);
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("sky view"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&p.sky_view);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        }
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("ground"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&p.ground);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+        }
+        enc.copy_buffer_to_buffer(&sky, 0, &out, k as u64 * view_bytes, view_bytes);
     }
     queue.submit([enc.finish()]);
     device
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
-    Ok(sky)
+    Ok(out)
 }
 
 /// The Milky Way pass's uniforms and extinction table for `state`: the

@@ -40,6 +40,9 @@ pub struct FrameUniforms {
     pub opts: [u32; 4],
     /// The band of rows of this dispatch: first row, row count; reserved.
     pub band: [u32; 4],
+    /// The Moon's centre direction (ENU, unit); w = 1 when the sky holds
+    /// the moonlit sky view (a second LUT after the Sun's), 0 otherwise.
+    pub moon: [f32; 4],
 }
 
 /// Mirror of WGSL `struct Atmo` (src/shaders/skyview.wgsl): the medium,
@@ -137,7 +140,7 @@ mod tests {
     /// computes for the WGSL `Frame` (uniform address space rules).
     #[test]
     fn frame_uniforms_mirror_the_wgsl_struct() {
-        assert_eq!(size_of::<FrameUniforms>(), 144);
+        assert_eq!(size_of::<FrameUniforms>(), 160);
         assert_eq!(align_of::<FrameUniforms>(), 4);
         let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
         let mut layouter = naga::proc::Layouter::default();
@@ -162,6 +165,7 @@ mod tests {
             ("tables", offset_of!(FrameUniforms, tables)),
             ("opts", offset_of!(FrameUniforms, opts)),
             ("band", offset_of!(FrameUniforms, band)),
+            ("moon", offset_of!(FrameUniforms, moon)),
         ];
         assert_eq!(members.len(), rust.len());
         for (m, (name, off)) in members.iter().zip(rust) {

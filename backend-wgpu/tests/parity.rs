@@ -620,3 +620,43 @@ fn milkyway_within_one_percent(c: &HdrImage, g: &HdrImage) {
     let max = d[d.len() - 1];
     assert!(max < 0.01, "max |ΔY|/Y {max}");
 }
+
+/// A moonlit night with the Moon just below the horizon (−6° < alt < 0°,
+/// three days after full Moon, Sun −24°): the Moon pass does not run but
+/// its light is in the sky (cpu lib.rs `SkyLight`: a second sky view lit
+/// from the Moon). The moonlit sky carries most of the light.
+fn moonlit_below_horizon(p: Projection, w: u32, h: u32) {
+    let mut s = scene("2024-01-28T18:35:00Z", p, w, h);
+    s.effects = vec![Effect::Moon, Effect::Atmosphere];
+    let state = SkyState::at(&s).unwrap();
+    assert!(state.sun.alt_refracted_deg < -18.0, "{}", state.sun.alt_deg);
+    let m = state.moon.alt_refracted_deg;
+    assert!((-6.0..0.0).contains(&m), "Moon {m}");
+    assert!(!state.runs(Effect::Moon));
+    let pole = DVec3::from_array(state.celestial_pole).as_vec3();
+    assert!(himmel_skymodel::moon::moonlight_scale(&s, &state.sun, &state.moon, pole).is_some());
+    let name = format!("moonlit night, Moon {m:.1}°, {p:?}");
+    let (_, g) = parity(&name, &s);
+    // Without the Moon in the scene there is no moonlit sky: much darker.
+    let mut s2 = s.clone();
+    s2.effects = vec![Effect::Atmosphere];
+    let state2 = SkyState::at(&s2).unwrap();
+    let without = gpu().render(&s2, &state2).unwrap().image;
+    let sum = |img: &HdrImage| -> f64 { img.pixels.iter().map(|p| luminance(*p) as f64).sum() };
+    assert!(
+        sum(&g) > 10.0 * sum(&without),
+        "{} vs {}",
+        sum(&g),
+        sum(&without)
+    );
+}
+
+#[test]
+fn moonlit_night_moon_below_horizon_fisheye() {
+    moonlit_below_horizon(Projection::Fisheye, 128, 128);
+}
+
+#[test]
+fn moonlit_night_moon_below_horizon_equirect() {
+    moonlit_below_horizon(Projection::Equirect, 256, 128);
+}

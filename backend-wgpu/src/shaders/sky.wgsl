@@ -29,11 +29,15 @@ struct Frame {
     // the band of rows this dispatch renders: first row, row count
     // (`accum` holds the band; frames beyond the buffer limits are banded)
     band: vec4<u32>,
+    // the Moon's centre (ENU unit); w: 1 when `sky` also holds the moonlit
+    // sky view (cpu lib.rs `SkyLight`), 0 otherwise
+    moon: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
 @group(0) @binding(1) var<storage, read_write> accum: array<vec4<f32>>;
-// the sky-view LUT (w × h texels), then the ground luminance below the horizon
+// the sky-view LUT (w × h texels), then the ground luminance below the
+// horizon; on a moonlit night the same again for the sky lit by the Moon
 @group(0) @binding(2) var<storage, read> sky: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read> sun_table: array<vec4<f32>>;
 @group(0) @binding(4) var target_tex: texture_storage_2d_array<rgba32float, write>;
@@ -154,9 +158,10 @@ fn tex_from_unit(x: f32, n: u32) -> f32 {
     return 0.5 / nf + x * (1.0 - 1.0 / nf);
 }
 
-// Bilinear lookup of the sky-view LUT at (u, v) ∈ [0, 1]² with texel
-// centres at (i + 0.5)/n, clamped (lut.rs `Lut2::sample_rgb`).
-fn sky_sample(u: f32, v: f32) -> vec3<f32> {
+// Bilinear lookup of the sky-view LUT starting at texel `base` at
+// (u, v) ∈ [0, 1]² with texel centres at (i + 0.5)/n, clamped
+// (lut.rs `Lut2::sample_rgb`).
+fn sky_sample(base: u32, u: f32, v: f32) -> vec3<f32> {
     let w = frame.tables.x;
     let h = frame.tables.y;
     let x = clamp(u * f32(w) - 0.5, 0.0, f32(w - 1u));
@@ -167,29 +172,38 @@ fn sky_sample(u: f32, v: f32) -> vec3<f32> {
     let y1 = min(y0 + 1u, h - 1u);
     let fx = x - f32(x0);
     let fy = y - f32(y0);
-    let a = mix(sky[y0 * w + x0].xyz, sky[y0 * w + x1].xyz, fx);
-    let b = mix(sky[y1 * w + x0].xyz, sky[y1 * w + x1].xyz, fx);
+    let a = mix(sky[base + y0 * w + x0].xyz, sky[base + y0 * w + x1].xyz, fx);
+    let b = mix(sky[base + y1 * w + x0].xyz, sky[base + y1 * w + x1].xyz, fx);
     return mix(a, b, fy);
 }
 
-// Sky radiance for an ENU direction (lut.rs `SkyView::radiance`): azimuth
-// from the Sun (0–180°, linear) × √(elevation / 90°); the ground below the
-// horizon.
-fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
+// One sky view's radiance for an ENU direction (lut.rs `SkyView::radiance`):
+// azimuth from its light (0–180°, linear) × √(elevation / 90°); the ground
+// below the horizon. The view starts at texel `base`.
+fn view_radiance(dir: vec3<f32>, light: vec3<f32>, base: u32) -> vec3<f32> {
     if (dir.z < 0.0) {
-        return sky[frame.tables.x * frame.tables.y].xyz;
+        return sky[base + frame.tables.x * frame.tables.y].xyz;
     }
-    let sun = frame.sun.xyz;
     let e = asin(min(dir.z, 1.0));
-    let cr = dir.x * sun.y - dir.y * sun.x;
-    let dt = dir.x * sun.x + dir.y * sun.y;
+    let cr = dir.x * light.y - dir.y * light.x;
+    let dt = dir.x * light.x + dir.y * light.y;
     var az = 0.0;
     if (cr != 0.0 || dt != 0.0) {
         az = atan2(abs(cr), dt);
     }
     let u = tex_from_unit(az / PI, frame.tables.x);
     let v = tex_from_unit(sqrt(e / HALF_PI), frame.tables.y);
-    return sky_sample(u, v);
+    return sky_sample(base, u, v);
+}
+
+// Sky radiance for an ENU direction (cpu lib.rs `SkyLight::radiance`): the
+// Sun's sky view plus, on a moonlit night, the Moon's.
+fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
+    var l = view_radiance(dir, frame.sun.xyz, 0u);
+    if (frame.moon.w != 0.0) {
+        l = l + view_radiance(dir, frame.moon.xyz, frame.tables.x * frame.tables.y + 1u);
+    }
+    return l;
 }
 
 // The Sun table: linear sRGB radiance (cd/m²) of the disk at normalised
