@@ -149,6 +149,30 @@ impl NightFrame {
         }
     }
 
+    /// A source's colour after extinction, its luminance factor and its
+    /// image position, or None when it is extinguished or lies more than
+    /// 64 px (the largest footprint reach) outside the image.
+    fn place(
+        &self,
+        cam: &himmel_skymodel::Camera,
+        s: &PointSource,
+    ) -> Option<([f32; 3], f32, (f64, f64))> {
+        let t = self.extinction.rgb(s.dir);
+        let c = [s.rgb[0] * t[0], s.rgb[1] * t[1], s.rgb[2] * t[2]];
+        let y = luminance(c);
+        let (cx, cy) = cam.dir_to_pixel(s.dir.as_dvec3())?;
+        let (w, h) = cam.image_size();
+        let (fw, fh) = (w as f64, h as f64);
+        let margin = 64.0;
+        if y <= 0.0
+            || !(-margin..fw + margin).contains(&cx)
+            || !(-margin..fh + margin).contains(&cy)
+        {
+            return None;
+        }
+        Some((c, y, (cx, cy)))
+    }
+
     /// Splats `sources` (extinction applied here) into `pixels`: sources
     /// whose core may overflow into a glare disk one after the other over
     /// the whole image, the rest in parallel over bands of rows (each band
@@ -168,19 +192,8 @@ impl NightFrame {
             .par_iter()
             .with_min_len(256)
             .filter_map(|s| {
-                let t = self.extinction.rgb(s.dir);
-                let c = [s.rgb[0] * t[0], s.rgb[1] * t[1], s.rgb[2] * t[2]];
-                let y = luminance(c);
-                let (cx, cy) = cam.dir_to_pixel(s.dir.as_dvec3())?;
+                let (c, y, (cx, cy)) = self.place(cam, s)?;
                 let lux = s.lux * y;
-                let (fw, fh) = (w as f64, h as f64);
-                let margin = 64.0;
-                if y <= 0.0
-                    || !(-margin..fw + margin).contains(&cx)
-                    || !(-margin..fh + margin).contains(&cy)
-                {
-                    return None;
-                }
                 // Glare candidates: a core peak within 2× of white (the
                 // splat decides exactly).
                 let glare = psf.glare > 0.0 && {
@@ -253,23 +266,11 @@ impl NightFrame {
     ) -> Vec<(SplatPlan, [f32; 3])> {
         let psf = self.psf(scene);
         let cam = &scene.camera;
-        let (w, h) = cam.image_size();
         sources
             .par_iter()
             .with_min_len(256)
             .map_init(SplatScratch::default, |scratch, s| {
-                let t = self.extinction.rgb(s.dir);
-                let c = [s.rgb[0] * t[0], s.rgb[1] * t[1], s.rgb[2] * t[2]];
-                let y = luminance(c);
-                let (cx, cy) = cam.dir_to_pixel(s.dir.as_dvec3())?;
-                let (fw, fh) = (w as f64, h as f64);
-                let margin = 64.0;
-                if y <= 0.0
-                    || !(-margin..fw + margin).contains(&cx)
-                    || !(-margin..fh + margin).contains(&cy)
-                {
-                    return None;
-                }
+                let (c, y, (cx, cy)) = self.place(cam, s)?;
                 let plan = splat_plan(cam, (cx, cy), s.dir.z, s.lux * y, &psf, scratch)?;
                 Some((plan, [c[0] / y, c[1] / y, c[2] / y]))
             })

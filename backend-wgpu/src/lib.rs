@@ -256,34 +256,13 @@ impl WgpuRenderer {
             label: Some("sky.wgsl"),
             source: wgpu::ShaderSource::Wgsl(SKY_WGSL.into()),
         });
-        let storage = |binding, read_only| wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: wgpu::BindingType::Buffer {
-                ty: wgpu::BufferBindingType::Storage { read_only },
-                has_dynamic_offset: false,
-                min_binding_size: None,
-            },
-            count: None,
-        };
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sky"),
             entries: &[
-                wgpu::BindGroupLayoutEntry {
-                    binding: 0,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(
-                            std::mem::size_of::<FrameUniforms>() as u64,
-                        ),
-                    },
-                    count: None,
-                },
-                storage(1, false),
-                storage(2, true),
-                storage(3, true),
+                uniform_entry::<FrameUniforms>(0),
+                storage_entry(1, false),
+                storage_entry(2, true),
+                storage_entry(3, true),
                 wgpu::BindGroupLayoutEntry {
                     binding: 4,
                     visibility: wgpu::ShaderStages::COMPUTE,
@@ -294,39 +273,14 @@ impl WgpuRenderer {
                     },
                     count: None,
                 },
-                wgpu::BindGroupLayoutEntry {
-                    binding: 5,
-                    visibility: wgpu::ShaderStages::COMPUTE,
-                    ty: wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: wgpu::BufferSize::new(
-                            std::mem::size_of::<NightUniforms>() as u64,
-                        ),
-                    },
-                    count: None,
-                },
-                storage(6, true),
-                storage(7, true),
-                storage(8, true),
-                storage(9, true),
+                uniform_entry::<NightUniforms>(5),
+                storage_entry(6, true),
+                storage_entry(7, true),
+                storage_entry(8, true),
+                storage_entry(9, true),
             ],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("sky"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let pipeline = compute_pipelines(device, &module, &layout, "sky");
         Pipelines {
             atmosphere: pipeline("atmosphere"),
             sun: pipeline("sun"),
@@ -1045,6 +999,45 @@ fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     }
 }
 
+/// A compute-stage uniform buffer binding sized for `T`.
+fn uniform_entry<T>(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::Buffer {
+            ty: wgpu::BufferBindingType::Uniform,
+            has_dynamic_offset: false,
+            min_binding_size: wgpu::BufferSize::new(std::mem::size_of::<T>() as u64),
+        },
+        count: None,
+    }
+}
+
+/// A factory of compute pipelines (one per entry point of `module`) that
+/// share one bind group `layout`.
+fn compute_pipelines<'a>(
+    device: &'a wgpu::Device,
+    module: &'a wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+    label: &str,
+) -> impl Fn(&str) -> wgpu::ComputePipeline + 'a {
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(label),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    move |entry: &str| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&pl),
+            module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    }
+}
+
 fn skyview_pipelines(device: &wgpu::Device) -> SkyViewPipelines {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("skyview.wgsl"),
@@ -1053,39 +1046,14 @@ fn skyview_pipelines(device: &wgpu::Device) -> SkyViewPipelines {
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("sky view"),
         entries: &[
-            wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::Buffer {
-                    ty: wgpu::BufferBindingType::Uniform,
-                    has_dynamic_offset: false,
-                    min_binding_size: wgpu::BufferSize::new(
-                        std::mem::size_of::<AtmosphereUniforms>() as u64,
-                    ),
-                },
-                count: None,
-            },
+            uniform_entry::<AtmosphereUniforms>(0),
             storage_entry(1, true),
             storage_entry(2, true),
             storage_entry(3, true),
             storage_entry(4, false),
         ],
     });
-    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some("sky view"),
-        bind_group_layouts: &[Some(&layout)],
-        immediate_size: 0,
-    });
-    let pipeline = |entry: &str| {
-        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some(entry),
-            layout: Some(&pl),
-            module: &module,
-            entry_point: Some(entry),
-            compilation_options: Default::default(),
-            cache: None,
-        })
-    };
+    let pipeline = compute_pipelines(device, &module, &layout, "sky view");
     SkyViewPipelines {
         sky_view: pipeline("sky_view"),
         ground: pipeline("ground"),

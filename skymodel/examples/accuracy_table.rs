@@ -28,26 +28,15 @@ fn main() {
     // atmosphere, aerosol optical depth 0.005); AEROSOL_G sets the aerosol
     // asymmetry parameter.
     let params = AtmosphereParams {
-        aerosol_density: std::env::var("AEROSOL")
-            .ok()
-            .and_then(|p| p.parse().ok())
-            .unwrap_or(1.0),
-        aerosol_g: std::env::var("AEROSOL_G")
-            .ok()
-            .and_then(|p| p.parse().ok())
-            .unwrap_or(AtmosphereParams::default().aerosol_g),
+        aerosol_density: env_list("AEROSOL").map_or(1.0, |v| v[0]),
+        aerosol_g: env_list("AEROSOL_G").map_or(AtmosphereParams::default().aerosol_g, |v| v[0]),
         ..AtmosphereParams::default()
     };
     let w = BandWeights::solar();
-    let suns: Vec<f32> = std::env::var("SUNS")
-        .map(|s| s.split(",").map(|x| x.parse().unwrap()).collect())
-        .unwrap_or(vec![60.0, 10.0, 0.0, -4.0, -8.0]);
+    let suns: Vec<f32> = env_list("SUNS").unwrap_or(vec![60.0, 10.0, 0.0, -4.0, -8.0]);
     let elevations = [2.0f32, 8.0, 20.0, 40.0, 60.0, 85.0];
     let rc = ReferenceConfig {
-        paths: std::env::var("PATHS")
-            .ok()
-            .and_then(|p| p.parse().ok())
-            .unwrap_or(10_000),
+        paths: env_list("PATHS").map_or(10_000, |v| v[0]),
         ..Default::default()
     };
     let medium = himmel_skymodel::atmosphere::Medium::new(&params);
@@ -72,11 +61,16 @@ fn main() {
     for &s in &suns {
         let sun = SkyView::sun_local(s.to_radians().sin());
         let key = format!("{tag} {s}:");
-        let hit = cached.iter().find_map(|l| l.strip_prefix(&key)).map(|l| {
-            l.split_whitespace()
-                .map(|x| x.parse::<f32>().unwrap())
-                .collect::<Vec<_>>()
-        });
+        // A cache line that does not parse (or is short) is recomputed.
+        let hit = cached
+            .iter()
+            .find_map(|l| l.strip_prefix(&key))
+            .and_then(|l| {
+                l.split_whitespace()
+                    .map(|x| x.parse::<f32>().ok())
+                    .collect::<Option<Vec<_>>>()
+            })
+            .filter(|v| v.len() == elevations.len() * 8);
         let mut v = Vec::new();
         let mut k_all = 0;
         for &e in &elevations {
@@ -114,7 +108,7 @@ fn main() {
         let _ = std::fs::write(c, all.join("\n") + "\n");
     }
     eprintln!("reference: {:.1} s", t.elapsed().as_secs_f64());
-    let fwd: Option<f32> = std::env::var("FWD").ok().and_then(|p| p.parse().ok());
+    let fwd: Option<f32> = env_list("FWD").map(|v| v[0]);
     let mut configs: Vec<(&str, LutConfig)> = vec![
         (
             "single scattering (orders 1)",
@@ -156,8 +150,10 @@ fn main() {
         ),
     ];
     // Trial overrides of the multiple-scattering LUT (MS=n,dirs,steps).
-    if let Ok(ms) = std::env::var("MS") {
-        let v: Vec<usize> = ms.split(',').map(|x| x.parse().unwrap()).collect();
+    if let Some(v) = env_list::<usize>("MS") {
+        if v.len() != 3 {
+            fail("MS", "expected n,dirs,steps");
+        }
         for c in configs.iter_mut() {
             c.1.multiscatter_n = v[0];
             c.1.multiscatter_dirs = v[1];
@@ -212,11 +208,31 @@ fn main() {
                     (l / r - 1.0).abs()
                 })
                 .collect();
-            errs.sort_by(|a, b| a.partial_cmp(b).unwrap());
+            errs.sort_by(f32::total_cmp);
             let med = errs[errs.len() / 2];
             let p95 = errs[(errs.len() * 95 / 100).min(errs.len() - 1)];
             cells.push(format!("{:.1} % / {:.1} %", med * 100.0, p95 * 100.0));
         }
         println!("| {name} | {pre:.0} | {frame:.0} | {} |", cells.join(" | "));
     }
+}
+
+/// A comma-separated list of numbers from environment variable `name`
+/// (None when unset); a malformed one ends the program with a one-line
+/// error and exit code 2.
+fn env_list<T: std::str::FromStr>(name: &str) -> Option<Vec<T>> {
+    let s = std::env::var(name).ok()?;
+    let v: Option<Vec<T>> = s.split(',').map(|x| x.trim().parse().ok()).collect();
+    match v {
+        Some(v) if !v.is_empty() => Some(v),
+        _ => fail(
+            name,
+            &format!("'{s}' is not a comma-separated list of numbers"),
+        ),
+    }
+}
+
+fn fail(name: &str, why: &str) -> ! {
+    eprintln!("error: {name}: {why}");
+    std::process::exit(2)
 }
