@@ -51,6 +51,7 @@
 //! them (`Features::TIMESTAMP_QUERY`), otherwise from the CPU clock around
 //! each submitted and awaited pass ([`WgpuRenderer::timing`]).
 
+pub mod luts;
 pub mod uniforms;
 
 use std::path::PathBuf;
@@ -66,6 +67,7 @@ use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
 use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
+pub use luts::LutSource;
 pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms, PointRecord};
 
 /// Nodes of the Sun table in normalised disk radius ρ.
@@ -169,6 +171,10 @@ pub struct WgpuRenderer {
     cpu: CpuRenderer,
     skyview: SkyViewPipelines,
     gpu_luts: Option<GpuLuts>,
+    /// Where the parameter-dependent LUTs come from.
+    lut_source: LutSource,
+    /// The LUT passes, compiled on first use.
+    lut_pipelines: Option<luts::LutPipelines>,
     sky_view_on_gpu: bool,
     /// The Milky Way map (uploaded on first use) and its width, height.
     mw_map: Option<(wgpu::Buffer, u32, u32)>,
@@ -181,10 +187,12 @@ struct SkyViewPipelines {
 }
 
 /// The parameter-dependent LUTs on the GPU (three vec4 band groups per
-/// texel), for the parameters they were uploaded for.
+/// texel), for the parameters they were uploaded or computed for.
 struct GpuLuts {
     params: himmel_skymodel::atmosphere::AtmosphereParams,
     config: himmel_skymodel::atmosphere::LutConfig,
+    /// Computed by the LUT compute shaders (not uploaded).
+    on_gpu: bool,
     trans: wgpu::Buffer,
     trans_s: wgpu::Buffer,
     multi: wgpu::Buffer,
@@ -235,6 +243,7 @@ impl WgpuRenderer {
         .map_err(|e| WgpuError::Device(e.to_string()))?;
         let pipelines = Self::pipelines(&device);
         let skyview = skyview_pipelines(&device);
+        let lut_source = LutSource::default_for(info.device_type);
         Ok(WgpuRenderer {
             device,
             queue,
@@ -246,6 +255,8 @@ impl WgpuRenderer {
             cpu: CpuRenderer::new(cache_dir),
             skyview,
             gpu_luts: None,
+            lut_source,
+            lut_pipelines: None,
             sky_view_on_gpu: true,
             mw_map: None,
         })
@@ -332,6 +343,80 @@ impl WgpuRenderer {
     /// the default) or on the CPU (uploaded each frame).
     pub fn set_sky_view_on_gpu(&mut self, on: bool) {
         self.sky_view_on_gpu = on;
+    }
+
+    /// Chooses where the parameter-dependent LUTs come from (default:
+    /// [`LutSource::default_for`] the adapter's type). A change drops the
+    /// LUTs held in memory, so the next frame computes or loads them anew.
+    pub fn set_lut_source(&mut self, source: LutSource) {
+        if source != self.lut_source {
+            self.lut_source = source;
+            self.gpu_luts = None;
+            self.cpu.replace_luts(None);
+        }
+    }
+
+    /// Where the parameter-dependent LUTs come from.
+    pub fn lut_source(&self) -> LutSource {
+        self.lut_source
+    }
+
+    /// Computes the parameter-dependent LUTs for `params`/`config` anew
+    /// from the current [`LutSource`], bypassing the memory and disk
+    /// caches, and keeps them for the next frames: on the GPU (compute,
+    /// await, read back) or on the CPU (all cores) and uploaded. Returns
+    /// after the GPU has finished. For benchmarks and warm-up.
+    pub fn precompute_luts(
+        &mut self,
+        params: &himmel_skymodel::atmosphere::AtmosphereParams,
+        config: &himmel_skymodel::atmosphere::LutConfig,
+    ) -> Result<(), RenderError> {
+        self.gpu_luts = None;
+        match self.lut_source {
+            LutSource::Gpu => {
+                self.ensure_gpu_luts(params, config)?;
+            }
+            LutSource::Cpu => {
+                let l = himmel_cpu::precompute(params, config, false);
+                upload_luts(&self.device, &mut self.gpu_luts, &l);
+                self.cpu.replace_luts(Some(l));
+                self.wait()?;
+            }
+        }
+        Ok(())
+    }
+
+    /// With [`LutSource::Gpu`], makes sure the GPU-computed LUTs for
+    /// `params`/`config` are held (computing and reading them back into
+    /// the CPU renderer's memory cache, which the CPU-side tables read);
+    /// returns whether they were computed now.
+    fn ensure_gpu_luts(
+        &mut self,
+        params: &himmel_skymodel::atmosphere::AtmosphereParams,
+        config: &himmel_skymodel::atmosphere::LutConfig,
+    ) -> Result<bool, RenderError> {
+        if self.lut_source != LutSource::Gpu {
+            return Ok(false);
+        }
+        if let Some(g) = &self.gpu_luts {
+            if g.on_gpu && g.params == *params && g.config == *config {
+                return Ok(false);
+            }
+        }
+        let pipelines = self
+            .lut_pipelines
+            .get_or_insert_with(|| luts::LutPipelines::new(&self.device));
+        let (bufs, cpu_copy) = luts::compute(&self.device, &self.queue, pipelines, params, config)?;
+        self.gpu_luts = Some(GpuLuts {
+            params: params.clone(),
+            config: *config,
+            on_gpu: true,
+            trans: bufs.trans,
+            trans_s: bufs.trans_s,
+            multi: bufs.multi,
+        });
+        self.cpu.replace_luts(Some(cpu_copy));
+        Ok(true)
     }
 
     /// Whether the sky-view LUT is computed on the GPU.
@@ -435,8 +520,9 @@ impl WgpuRenderer {
         let mut moon_light = [0.0f32; 4];
         if atmosphere {
             let tp = Clock::now();
+            let on_gpu = self.ensure_gpu_luts(&scene.atmosphere, &scene.lut)?;
             let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
-            lut_source = source;
+            lut_source = if on_gpu { "gpu" } else { source };
             let mut inputs = vec![SkyViewInput {
                 observer_altitude_km: state.observer_altitude_km as f32,
                 sun_sin_elevation: sun_dir.z,
@@ -1095,6 +1181,7 @@ fn upload_luts<'a>(
     slot.insert(GpuLuts {
         params: luts.params.clone(),
         config: luts.config,
+        on_gpu: false,
         trans: buf("transmittance", &luts.transmittance),
         trans_s: buf("scattering transmittance", &luts.scattering_transmittance),
         multi: buf("multiple scattering", &luts.multiscatter),
