@@ -11,9 +11,20 @@
 //! conventions.md) for a cube map, which users can bind as a
 //! `TextureViewDimension::Cube` texture ([`WgpuRenderer::render_cubemap`]).
 //!
-//! * Atmosphere: the parameter-dependent LUTs and the per-frame sky-view
-//!   LUT (Hillaire 2020) are computed on the CPU by `himmel-cpu`
-//!   (in-memory and on-disk cache) and uploaded; the shader computes each
+//! * Atmosphere: the parameter-dependent LUTs (Hillaire 2020:
+//!   transmittance, its δ-scaled twin, multiple scattering Ψ_ms) come from
+//!   [`LutSource::Gpu`] — compute shaders ([`luts`], `src/shaders/luts.wgsl`,
+//!   a port of the CPU precompute with the same parametrisation, step
+//!   counts and directions, within the f32 rounding bound of
+//!   tests/gpu_luts.rs), read back once for the CPU-side tables — or
+//!   [`LutSource::Cpu`] — `himmel-cpu`'s precompute (in-memory and on-disk
+//!   cache), uploaded. The default is the GPU on a hardware adapter and
+//!   the CPU on a software one (lavapipe), where it measured faster
+//!   ([`LutSource::default_for`], `benches/render.rs` group `precompute`;
+//!   [`WgpuRenderer::set_lut_source`] overrides it). Either way they stay
+//!   on the GPU while the parameters and configuration do not change. The
+//!   per-frame sky-view LUT is computed on the GPU (`skyview.wgsl`) or on
+//!   the CPU and uploaded; the shader computes each
 //!   pixel's view direction from the projection (projection.rs in f32) and
 //!   looks the sky view up bilinearly (lut.rs `SkyView::radiance`). On a
 //!   moonlit night (`himmel_skymodel::moon::moonlight_scale`) a second sky
@@ -152,7 +163,9 @@ pub struct GpuFrame {
     pub passes: Vec<PassStat>,
     /// LUT time (memory, disk or computation), ms.
     pub precompute_ms: f64,
-    /// Where the LUTs came from.
+    /// Where the LUTs came from: `gpu` (computed by the LUT compute
+    /// shaders for this frame), `memory` (kept from an earlier frame),
+    /// `disk-cache`, `computed` (CPU precompute), `none`.
     pub lut_source: &'static str,
     /// CPU time of the per-frame sky-view LUT, ms.
     pub sky_view_ms: f64,
@@ -175,6 +188,8 @@ pub struct WgpuRenderer {
     lut_source: LutSource,
     /// The LUT passes, compiled on first use.
     lut_pipelines: Option<luts::LutPipelines>,
+    /// The GPU sky view's buffers, kept across frames.
+    sky_view_buffers: Option<SkyViewBuffers>,
     sky_view_on_gpu: bool,
     /// The Milky Way map (uploaded on first use) and its width, height.
     mw_map: Option<(wgpu::Buffer, u32, u32)>,
@@ -257,6 +272,7 @@ impl WgpuRenderer {
             gpu_luts: None,
             lut_source,
             lut_pipelines: None,
+            sky_view_buffers: None,
             sky_view_on_gpu: true,
             mw_map: None,
         })
@@ -555,6 +571,7 @@ impl WgpuRenderer {
                     gl,
                     luts,
                     &inputs,
+                    &mut self.sky_view_buffers,
                 )?);
                 sky_view_ms = ms(tsv);
             } else {
@@ -1232,9 +1249,24 @@ pub fn atmosphere_uniforms(luts: &AtmosphereLuts, input: &SkyViewInput) -> Atmos
     }
 }
 
+/// The GPU sky view's buffers and bind groups, kept across frames while
+/// the LUT buffers, the sky-view size and the number of inputs stay the
+/// same (the uniforms are rewritten each frame).
+struct SkyViewBuffers {
+    /// Sky-view width, height, number of inputs.
+    key: (u32, u32, usize),
+    /// The LUT buffers the bind groups hold.
+    luts: [wgpu::Buffer; 3],
+    /// Per input: w × h texels, then the ground.
+    out: wgpu::Buffer,
+    /// Per input: uniform buffer, sky-view buffer, bind group.
+    slots: Vec<(wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup)>,
+}
+
 /// Computes the sky-view LUT and the ground luminance on the GPU for each
 /// of `inputs` (the Sun's, then the Moon's on a moonlit night); returns the
 /// buffer (per input: w × h texels, then the ground), after completion.
+/// The buffers live in `cache` (rebuilt when the LUTs or sizes change).
 fn gpu_sky_view(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -1242,63 +1274,85 @@ fn gpu_sky_view(
     gl: &GpuLuts,
     luts: &AtmosphereLuts,
     inputs: &[SkyViewInput],
+    cache: &mut Option<SkyViewBuffers>,
 ) -> Result<wgpu::Buffer, RenderError> {
     let (w, h) = (luts.config.sky_view_w as u32, luts.config.sky_view_h as u32);
     let view_bytes = (w as u64 * h as u64 + 1) * 16;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sky views"),
-        size: view_bytes * inputs.len().max(1) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let key = (w, h, inputs.len().max(1));
+    let lut_bufs = [gl.trans.clone(), gl.trans_s.clone(), gl.multi.clone()];
+    let c = match cache.take() {
+        Some(c) if c.key == key && c.luts == lut_bufs => c,
+        _ => {
+            let out = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sky views"),
+                size: view_bytes * key.2 as u64,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let slots = (0..key.2)
+                .map(|_| {
+                    let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("atmosphere"),
+                        size: std::mem::size_of::<AtmosphereUniforms>() as u64,
+                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    });
+                    let sky = device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("sky view"),
+                        size: view_bytes,
+                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                        mapped_at_creation: false,
+                    });
+                    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("sky view"),
+                        layout: &p.layout,
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: uniform.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 1,
+                                resource: gl.trans.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 2,
+                                resource: gl.trans_s.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 3,
+                                resource: gl.multi.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 4,
+                                resource: sky.as_entire_binding(),
+                            },
+                        ],
+                    });
+                    (uniform, sky, bind)
+                })
+                .collect();
+            SkyViewBuffers {
+                key,
+                luts: lut_bufs,
+                out,
+                slots,
+            }
+        }
+    };
+    let c = cache.insert(c);
     let mut enc = device.create_command_encoder(&Default::default());
-    for (k, input) in inputs.iter().enumerate() {
+    for (k, (input, (uniform, sky, bind))) in inputs.iter().zip(&c.slots).enumerate() {
         let u = atmosphere_uniforms(luts, input);
         debug_assert_eq!((u.dims2[0], u.dims2[1]), (w, h));
-        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("atmosphere"),
-            contents: bytemuck::bytes_of(&u),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let sky = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sky view"),
-            size: view_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sky view"),
-            layout: &p.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: gl.trans.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: gl.trans_s.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: gl.multi.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: sky.as_entire_binding(),
-                },
-            ],
-        });
+        queue.write_buffer(uniform, 0, bytemuck::bytes_of(&u));
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("sky view"),
                 timestamp_writes: None,
             });
             pass.set_pipeline(&p.sky_view);
-            pass.set_bind_group(0, &bind, &[]);
+            pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
         {
@@ -1307,16 +1361,16 @@ fn gpu_sky_view(
                 timestamp_writes: None,
             });
             pass.set_pipeline(&p.ground);
-            pass.set_bind_group(0, &bind, &[]);
+            pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
         }
-        enc.copy_buffer_to_buffer(&sky, 0, &out, k as u64 * view_bytes, view_bytes);
+        enc.copy_buffer_to_buffer(sky, 0, &c.out, k as u64 * view_bytes, view_bytes);
     }
     queue.submit([enc.finish()]);
     device
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
-    Ok(out)
+    Ok(c.out.clone())
 }
 
 /// The Milky Way pass's uniforms and extinction table for `state`: the
