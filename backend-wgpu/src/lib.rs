@@ -77,8 +77,8 @@ use himmel_skymodel::sun::SunDisk;
 use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
-use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
 pub use luts::LutSource;
+use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
 pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms, PointRecord};
 
 /// Nodes of the Sun table in normalised disk radius ρ.

@@ -75,7 +75,11 @@ fn compare(name: &str, cpu: &AtmosphereLuts, gpu: &AtmosphereLuts) -> [(f64, f64
     // Optical depths: |Δτ| ≤ 2ε + 3κτ on every band of every texel.
     for (label, c, g) in [
         ("T", &cpu.transmittance, &gpu.transmittance),
-        ("T_s", &cpu.scattering_transmittance, &gpu.scattering_transmittance),
+        (
+            "T_s",
+            &cpu.scattering_transmittance,
+            &gpu.scattering_transmittance,
+        ),
     ] {
         let mut worst = 0.0f32;
         for (a, b) in c.data.iter().zip(&g.data) {
