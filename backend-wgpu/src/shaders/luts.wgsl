@@ -157,9 +157,10 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// lut.rs `sun_transmittance` on the δ-scaled LUT for band group k, with the
-// Earth's-shadow visibility `vis` (> 0) already computed.
-fn sun_transmittance_s(r: f32, mu_s: f32, vis: f32, k: u32) -> vec4<f32> {
+// lut.rs `sun_transmittance` on the δ-scaled LUT, all three band groups
+// (the texel coordinates computed once), with the Earth's-shadow
+// visibility `vis` (> 0) already computed.
+fn sun_transmittance_s(r: f32, mu_s: f32, vis: f32) -> array<vec4<f32>, 3> {
     let w = lp.dims.x;
     let h = lp.dims.y;
     let b = lp.s0.x;
@@ -184,9 +185,17 @@ fn sun_transmittance_s(r: f32, mu_s: f32, vis: f32, k: u32) -> vec4<f32> {
     let fy = y - f32(y0);
     let x1 = min(x0 + 1u, w - 1u);
     let y1 = min(y0 + 1u, h - 1u);
-    let a = trans_s[(y0 * w + x0) * 3u + k] * (1.0 - fx) + trans_s[(y0 * w + x1) * 3u + k] * fx;
-    let c = trans_s[(y1 * w + x0) * 3u + k] * (1.0 - fx) + trans_s[(y1 * w + x1) * 3u + k] * fx;
-    return (a * (1.0 - fy) + c * fy) * vis;
+    let i00 = (y0 * w + x0) * 3u;
+    let i01 = (y0 * w + x1) * 3u;
+    let i10 = (y1 * w + x0) * 3u;
+    let i11 = (y1 * w + x1) * 3u;
+    var out: array<vec4<f32>, 3>;
+    for (var k = 0u; k < 3u; k = k + 1u) {
+        let a = trans_s[i00 + k] * (1.0 - fx) + trans_s[i01 + k] * fx;
+        let c = trans_s[i10 + k] * (1.0 - fx) + trans_s[i11 + k] * fx;
+        out[k] = (a * (1.0 - fy) + c * fy) * vis;
+    }
+    return out;
 }
 
 fn mu_s_from_unit(x: f32) -> f32 {
@@ -251,6 +260,10 @@ fn multiscatter(
             let mus = dot(p, sun) / rp;
             let dens = densities(rp);
             let vis = sun_visibility(rp, mus);
+            var tsun = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
+            if (vis > 0.0) {
+                tsun = sun_transmittance_s(rp, mus, vis);
+            }
             for (var k = 0u; k < 3u; k = k + 1u) {
                 let sr = lp.rayleigh[k] * dens.x;
                 let sm = lp.mie_scattering[k] * dens.y;
@@ -258,13 +271,9 @@ fn multiscatter(
                 let ss = sr + sm - fwd * dens.y;
                 let ext = lp.rayleigh[k] * dens.x + lp.mie_extinction[k] * dens.y
                     + lp.ozone[k] * dens.z - fwd * dens.y;
-                var tsun = vec4<f32>(0.0);
-                if (vis > 0.0) {
-                    tsun = sun_transmittance_s(rp, mus, vis, k);
-                }
                 let seg = exp(-ext * dt);
                 let integ = integrate_segment(ext, seg, dt);
-                ld[k] = ld[k] + tv[k] * (sr * pr + sm * pm) * tsun * integ;
+                ld[k] = ld[k] + tv[k] * (sr * pr + sm * pm) * tsun[k] * integ;
                 fd[k] = fd[k] + tv[k] * ss * integ;
                 tv[k] = tv[k] * seg;
             }
@@ -274,12 +283,11 @@ fn multiscatter(
             let rg = length(pg);
             let mug = dot(pg, sun) / rg;
             let vis = sun_visibility(rg, mug);
-            for (var k = 0u; k < 3u; k = k + 1u) {
-                var tsun = vec4<f32>(0.0);
-                if (vis > 0.0) {
-                    tsun = sun_transmittance_s(rg, mug, vis, k);
+            if (vis > 0.0) {
+                let tsun = sun_transmittance_s(rg, mug, vis);
+                for (var k = 0u; k < 3u; k = k + 1u) {
+                    ld[k] = ld[k] + tv[k] * tsun[k] * (max(mug, 0.0) * lp.s1.w / PI);
                 }
-                ld[k] = ld[k] + tv[k] * tsun * (max(mug, 0.0) * lp.s1.w / PI);
             }
         }
         for (var k = 0u; k < 3u; k = k + 1u) {
