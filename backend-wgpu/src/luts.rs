@@ -433,6 +433,20 @@ mod tests {
         assert_eq!(names, ["transmittance", "multiscatter"]);
     }
 
+    /// The policy: the shaders on every adapter but a software (CPU) one.
+    #[test]
+    fn default_source_by_adapter_type() {
+        use wgpu::DeviceType as D;
+        assert_eq!(LutSource::default_for(D::Cpu), LutSource::Cpu);
+        for d in [D::DiscreteGpu, D::IntegratedGpu, D::VirtualGpu, D::Other] {
+            assert_eq!(LutSource::default_for(d), LutSource::Gpu);
+        }
+        assert_eq!(
+            (LutSource::Gpu.name(), LutSource::Cpu.name()),
+            ("gpu", "cpu")
+        );
+    }
+
     /// The uniforms carry the configuration and the direction count of the
     /// CPU's direction set (k² for k = round(√n)).
     #[test]
