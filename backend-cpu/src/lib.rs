@@ -182,6 +182,14 @@ impl CpuRenderer {
         };
         (&*self.luts.insert(luts), source)
     }
+
+    /// Replaces the in-memory LUTs (e.g. with LUTs computed elsewhere: the
+    /// wgpu backend's compute shaders; `None` empties the memory cache) and
+    /// returns the previous ones. [`Self::luts`] then serves them from
+    /// memory while the parameters and configuration match.
+    pub fn replace_luts(&mut self, luts: Option<AtmosphereLuts>) -> Option<AtmosphereLuts> {
+        std::mem::replace(&mut self.luts, luts)
+    }
 }
 
 /// The sky-view inputs of `state`.

@@ -9,12 +9,27 @@
 //! * `wgpu_frame_readback` — `wgpu_frame` plus the copy back into an `HdrImage`;
 //! * `cpu_frame` — the CPU renderer, all cores.
 //!
+//! and, in the group `precompute`, the parameter-dependent LUTs at the
+//! default `LutConfig` (transmittance pair 256×64, Ψ_ms 48², 64
+//! directions):
+//!
+//! * `gpu_luts` — the LUT compute shaders (luts.wgsl) submitted and
+//!   awaited;
+//! * `gpu_luts_readback` — the same plus the read-back into an
+//!   `AtmosphereLuts` (what a frame with `LutSource::Gpu` pays on a
+//!   parameter change);
+//! * `cpu_luts_upload` — `himmel_cpu::precompute` (all cores) plus the
+//!   upload (what `LutSource::Cpu` pays without a cache hit);
+//! * `disk_cache_load` — `himmel_cpu::cache::load` of the same LUTs (what
+//!   `LutSource::Cpu` pays on a disk-cache hit, before the upload).
+//!
 //! `cargo bench -p himmel-wgpu --bench render` (on lavapipe without a GPU).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use himmel_cpu::CpuRenderer;
+use himmel_skymodel::atmosphere::{AtmosphereParams, LutConfig};
 use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
-use himmel_wgpu::WgpuRenderer;
+use himmel_wgpu::{luts, LutSource, WgpuRenderer};
 
 fn scene(w: u32, h: u32) -> Scene {
     let mut s = Scene::default();
@@ -42,6 +57,7 @@ fn benches(c: &mut Criterion) {
         info.device_type,
         gpu.timing().name()
     );
+    precompute(c, &mut gpu);
     let mut cpu = CpuRenderer::new(None);
     for (w, h) in [(1024u32, 1024u32), (1920, 1080)] {
         let s = scene(w, h);
@@ -73,6 +89,44 @@ fn benches(c: &mut Criterion) {
         }
         eprintln!("{w}x{h} wgpu sky view (GPU): {:.2} ms", out.sky_view_ms);
     }
+}
+
+/// The `precompute` group (see the module documentation).
+fn precompute(c: &mut Criterion, gpu: &mut WgpuRenderer) {
+    let params = AtmosphereParams::default();
+    let config = LutConfig::default();
+    let before = gpu.lut_source();
+    let pipelines = luts::LutPipelines::new(gpu.device());
+    let mut g = c.benchmark_group("precompute");
+    g.sample_size(10);
+    g.bench_function("gpu_luts", |b| {
+        b.iter(|| {
+            let bufs =
+                luts::dispatch(gpu.device(), gpu.queue(), &pipelines, &params, &config).unwrap();
+            gpu.device()
+                .poll(wgpu::PollType::wait_indefinitely())
+                .unwrap();
+            bufs
+        })
+    });
+    gpu.set_lut_source(LutSource::Gpu);
+    g.bench_function("gpu_luts_readback", |b| {
+        b.iter(|| gpu.precompute_luts(&params, &config).unwrap())
+    });
+    gpu.set_lut_source(LutSource::Cpu);
+    g.bench_function("cpu_luts_upload", |b| {
+        b.iter(|| gpu.precompute_luts(&params, &config).unwrap())
+    });
+    let dir = std::env::temp_dir().join(format!("himmel-bench-luts-{}", std::process::id()));
+    let stored = himmel_cpu::precompute(&params, &config, false);
+    if himmel_cpu::cache::store(&dir, &stored).is_ok() {
+        g.bench_function("disk_cache_load", |b| {
+            b.iter(|| himmel_cpu::cache::load(&dir, &params, &config).unwrap())
+        });
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+    g.finish();
+    gpu.set_lut_source(before);
 }
 
 criterion_group!(wgpu_render, benches);

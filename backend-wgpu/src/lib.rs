@@ -11,9 +11,22 @@
 //! conventions.md) for a cube map, which users can bind as a
 //! `TextureViewDimension::Cube` texture ([`WgpuRenderer::render_cubemap`]).
 //!
-//! * Atmosphere: the parameter-dependent LUTs and the per-frame sky-view
-//!   LUT (Hillaire 2020) are computed on the CPU by `himmel-cpu`
-//!   (in-memory and on-disk cache) and uploaded; the shader computes each
+//! * Atmosphere: the parameter-dependent LUTs (Hillaire 2020:
+//!   transmittance, its δ-scaled twin, multiple scattering Ψ_ms) come from
+//!   [`LutSource::Gpu`] — compute shaders ([`luts`], `src/shaders/luts.wgsl`,
+//!   a port of the CPU precompute with the same parametrisation, step
+//!   counts and directions, within the f32 rounding bound of
+//!   tests/gpu_luts.rs), read back once for the CPU-side tables — or
+//!   [`LutSource::Cpu`] — `himmel-cpu`'s precompute (in-memory and on-disk
+//!   cache), uploaded. The default is the GPU on a hardware adapter and
+//!   the CPU on a software one such as lavapipe, which shares the CPU's
+//!   cores: there the shaders measured only ≈ 20 % faster than the CPU
+//!   precompute, whose disk cache then serves later processes in ≈ 1 ms
+//!   ([`LutSource::default_for`], `benches/render.rs` group `precompute`;
+//!   [`WgpuRenderer::set_lut_source`] overrides it). Either way they stay
+//!   on the GPU while the parameters and configuration do not change. The
+//!   per-frame sky-view LUT is computed on the GPU (`skyview.wgsl`) or on
+//!   the CPU and uploaded; the shader computes each
 //!   pixel's view direction from the projection (projection.rs in f32) and
 //!   looks the sky view up bilinearly (lut.rs `SkyView::radiance`). On a
 //!   moonlit night (`himmel_skymodel::moon::moonlight_scale`) a second sky
@@ -51,6 +64,7 @@
 //! them (`Features::TIMESTAMP_QUERY`), otherwise from the CPU clock around
 //! each submitted and awaited pass ([`WgpuRenderer::timing`]).
 
+pub mod luts;
 pub mod uniforms;
 
 use std::path::PathBuf;
@@ -65,6 +79,7 @@ use himmel_skymodel::sun::SunDisk;
 use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
+pub use luts::LutSource;
 use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
 pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms, PointRecord};
 
@@ -150,7 +165,9 @@ pub struct GpuFrame {
     pub passes: Vec<PassStat>,
     /// LUT time (memory, disk or computation), ms.
     pub precompute_ms: f64,
-    /// Where the LUTs came from.
+    /// Where the LUTs came from: `gpu` (computed by the LUT compute
+    /// shaders for this frame), `memory` (kept from an earlier frame),
+    /// `disk-cache`, `computed` (CPU precompute), `none`.
     pub lut_source: &'static str,
     /// CPU time of the per-frame sky-view LUT, ms.
     pub sky_view_ms: f64,
@@ -169,6 +186,12 @@ pub struct WgpuRenderer {
     cpu: CpuRenderer,
     skyview: SkyViewPipelines,
     gpu_luts: Option<GpuLuts>,
+    /// Where the parameter-dependent LUTs come from.
+    lut_source: LutSource,
+    /// The LUT passes, compiled on first use.
+    lut_pipelines: Option<luts::LutPipelines>,
+    /// The GPU sky view's buffers, kept across frames.
+    sky_view_buffers: Option<SkyViewBuffers>,
     sky_view_on_gpu: bool,
     /// The Milky Way map (uploaded on first use) and its width, height.
     mw_map: Option<(wgpu::Buffer, u32, u32)>,
@@ -181,10 +204,12 @@ struct SkyViewPipelines {
 }
 
 /// The parameter-dependent LUTs on the GPU (three vec4 band groups per
-/// texel), for the parameters they were uploaded for.
+/// texel), for the parameters they were uploaded or computed for.
 struct GpuLuts {
     params: himmel_skymodel::atmosphere::AtmosphereParams,
     config: himmel_skymodel::atmosphere::LutConfig,
+    /// Computed by the LUT compute shaders (not uploaded).
+    on_gpu: bool,
     trans: wgpu::Buffer,
     trans_s: wgpu::Buffer,
     multi: wgpu::Buffer,
@@ -235,6 +260,7 @@ impl WgpuRenderer {
         .map_err(|e| WgpuError::Device(e.to_string()))?;
         let pipelines = Self::pipelines(&device);
         let skyview = skyview_pipelines(&device);
+        let lut_source = LutSource::default_for(info.device_type);
         Ok(WgpuRenderer {
             device,
             queue,
@@ -246,6 +272,9 @@ impl WgpuRenderer {
             cpu: CpuRenderer::new(cache_dir),
             skyview,
             gpu_luts: None,
+            lut_source,
+            lut_pipelines: None,
+            sky_view_buffers: None,
             sky_view_on_gpu: true,
             mw_map: None,
         })
@@ -332,6 +361,80 @@ impl WgpuRenderer {
     /// the default) or on the CPU (uploaded each frame).
     pub fn set_sky_view_on_gpu(&mut self, on: bool) {
         self.sky_view_on_gpu = on;
+    }
+
+    /// Chooses where the parameter-dependent LUTs come from (default:
+    /// [`LutSource::default_for`] the adapter's type). A change drops the
+    /// LUTs held in memory, so the next frame computes or loads them anew.
+    pub fn set_lut_source(&mut self, source: LutSource) {
+        if source != self.lut_source {
+            self.lut_source = source;
+            self.gpu_luts = None;
+            self.cpu.replace_luts(None);
+        }
+    }
+
+    /// Where the parameter-dependent LUTs come from.
+    pub fn lut_source(&self) -> LutSource {
+        self.lut_source
+    }
+
+    /// Computes the parameter-dependent LUTs for `params`/`config` anew
+    /// from the current [`LutSource`], bypassing the memory and disk
+    /// caches, and keeps them for the next frames: on the GPU (compute,
+    /// await, read back) or on the CPU (all cores) and uploaded. Returns
+    /// after the GPU has finished. For benchmarks and warm-up.
+    pub fn precompute_luts(
+        &mut self,
+        params: &himmel_skymodel::atmosphere::AtmosphereParams,
+        config: &himmel_skymodel::atmosphere::LutConfig,
+    ) -> Result<(), RenderError> {
+        self.gpu_luts = None;
+        match self.lut_source {
+            LutSource::Gpu => {
+                self.ensure_gpu_luts(params, config)?;
+            }
+            LutSource::Cpu => {
+                let l = himmel_cpu::precompute(params, config, false);
+                upload_luts(&self.device, &mut self.gpu_luts, &l);
+                self.cpu.replace_luts(Some(l));
+                self.wait()?;
+            }
+        }
+        Ok(())
+    }
+
+    /// With [`LutSource::Gpu`], makes sure the GPU-computed LUTs for
+    /// `params`/`config` are held (computing and reading them back into
+    /// the CPU renderer's memory cache, which the CPU-side tables read);
+    /// returns whether they were computed now.
+    fn ensure_gpu_luts(
+        &mut self,
+        params: &himmel_skymodel::atmosphere::AtmosphereParams,
+        config: &himmel_skymodel::atmosphere::LutConfig,
+    ) -> Result<bool, RenderError> {
+        if self.lut_source != LutSource::Gpu {
+            return Ok(false);
+        }
+        if let Some(g) = &self.gpu_luts {
+            if g.on_gpu && g.params == *params && g.config == *config {
+                return Ok(false);
+            }
+        }
+        let pipelines = self
+            .lut_pipelines
+            .get_or_insert_with(|| luts::LutPipelines::new(&self.device));
+        let (bufs, cpu_copy) = luts::compute(&self.device, &self.queue, pipelines, params, config)?;
+        self.gpu_luts = Some(GpuLuts {
+            params: params.clone(),
+            config: *config,
+            on_gpu: true,
+            trans: bufs.trans,
+            trans_s: bufs.trans_s,
+            multi: bufs.multi,
+        });
+        self.cpu.replace_luts(Some(cpu_copy));
+        Ok(true)
     }
 
     /// Whether the sky-view LUT is computed on the GPU.
@@ -435,8 +538,9 @@ impl WgpuRenderer {
         let mut moon_light = [0.0f32; 4];
         if atmosphere {
             let tp = Clock::now();
+            let on_gpu = self.ensure_gpu_luts(&scene.atmosphere, &scene.lut)?;
             let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
-            lut_source = source;
+            lut_source = if on_gpu { "gpu" } else { source };
             let mut inputs = vec![SkyViewInput {
                 observer_altitude_km: state.observer_altitude_km as f32,
                 sun_sin_elevation: sun_dir.z,
@@ -469,6 +573,7 @@ impl WgpuRenderer {
                     gl,
                     luts,
                     &inputs,
+                    &mut self.sky_view_buffers,
                 )?);
                 sky_view_ms = ms(tsv);
             } else {
@@ -1095,6 +1200,7 @@ fn upload_luts<'a>(
     slot.insert(GpuLuts {
         params: luts.params.clone(),
         config: luts.config,
+        on_gpu: false,
         trans: buf("transmittance", &luts.transmittance),
         trans_s: buf("scattering transmittance", &luts.scattering_transmittance),
         multi: buf("multiple scattering", &luts.multiscatter),
@@ -1145,9 +1251,24 @@ pub fn atmosphere_uniforms(luts: &AtmosphereLuts, input: &SkyViewInput) -> Atmos
     }
 }
 
+/// The GPU sky view's buffers and bind groups, kept across frames while
+/// the LUT buffers, the sky-view size and the number of inputs stay the
+/// same (the uniforms are rewritten each frame).
+struct SkyViewBuffers {
+    /// Sky-view width, height, number of inputs.
+    key: (u32, u32, usize),
+    /// The LUT buffers the bind groups hold.
+    luts: [wgpu::Buffer; 3],
+    /// Per input: w × h texels, then the ground.
+    out: wgpu::Buffer,
+    /// Per input: uniform buffer, sky-view buffer, bind group.
+    slots: Vec<(wgpu::Buffer, wgpu::Buffer, wgpu::BindGroup)>,
+}
+
 /// Computes the sky-view LUT and the ground luminance on the GPU for each
 /// of `inputs` (the Sun's, then the Moon's on a moonlit night); returns the
 /// buffer (per input: w × h texels, then the ground), after completion.
+/// The buffers live in `cache` (rebuilt when the LUTs or sizes change).
 fn gpu_sky_view(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -1155,63 +1276,85 @@ fn gpu_sky_view(
     gl: &GpuLuts,
     luts: &AtmosphereLuts,
     inputs: &[SkyViewInput],
+    cache: &mut Option<SkyViewBuffers>,
 ) -> Result<wgpu::Buffer, RenderError> {
     let (w, h) = (luts.config.sky_view_w as u32, luts.config.sky_view_h as u32);
     let view_bytes = (w as u64 * h as u64 + 1) * 16;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("sky views"),
-        size: view_bytes * inputs.len().max(1) as u64,
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    });
+    let key = (w, h, inputs.len().max(1));
+    let lut_bufs = [gl.trans.clone(), gl.trans_s.clone(), gl.multi.clone()];
+    let c = match cache.take() {
+        Some(c) if c.key == key && c.luts == lut_bufs => c,
+        _ => {
+            let out = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("sky views"),
+                size: view_bytes * key.2 as u64,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            let slots = (0..key.2)
+                .map(|_| {
+                    let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("atmosphere"),
+                        size: std::mem::size_of::<AtmosphereUniforms>() as u64,
+                        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                        mapped_at_creation: false,
+                    });
+                    let sky = device.create_buffer(&wgpu::BufferDescriptor {
+                        label: Some("sky view"),
+                        size: view_bytes,
+                        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+                        mapped_at_creation: false,
+                    });
+                    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("sky view"),
+                        layout: &p.layout,
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: uniform.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 1,
+                                resource: gl.trans.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 2,
+                                resource: gl.trans_s.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 3,
+                                resource: gl.multi.as_entire_binding(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 4,
+                                resource: sky.as_entire_binding(),
+                            },
+                        ],
+                    });
+                    (uniform, sky, bind)
+                })
+                .collect();
+            SkyViewBuffers {
+                key,
+                luts: lut_bufs,
+                out,
+                slots,
+            }
+        }
+    };
+    let c = cache.insert(c);
     let mut enc = device.create_command_encoder(&Default::default());
-    for (k, input) in inputs.iter().enumerate() {
+    for (k, (input, (uniform, sky, bind))) in inputs.iter().zip(&c.slots).enumerate() {
         let u = atmosphere_uniforms(luts, input);
         debug_assert_eq!((u.dims2[0], u.dims2[1]), (w, h));
-        let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("atmosphere"),
-            contents: bytemuck::bytes_of(&u),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let sky = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("sky view"),
-            size: view_bytes,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sky view"),
-            layout: &p.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: gl.trans.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: gl.trans_s.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: gl.multi.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: sky.as_entire_binding(),
-                },
-            ],
-        });
+        queue.write_buffer(uniform, 0, bytemuck::bytes_of(&u));
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                 label: Some("sky view"),
                 timestamp_writes: None,
             });
             pass.set_pipeline(&p.sky_view);
-            pass.set_bind_group(0, &bind, &[]);
+            pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
         {
@@ -1220,16 +1363,16 @@ fn gpu_sky_view(
                 timestamp_writes: None,
             });
             pass.set_pipeline(&p.ground);
-            pass.set_bind_group(0, &bind, &[]);
+            pass.set_bind_group(0, bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
         }
-        enc.copy_buffer_to_buffer(&sky, 0, &out, k as u64 * view_bytes, view_bytes);
+        enc.copy_buffer_to_buffer(sky, 0, &c.out, k as u64 * view_bytes, view_bytes);
     }
     queue.submit([enc.finish()]);
     device
         .poll(wgpu::PollType::wait_indefinitely())
         .map_err(|e| RenderError::Other(format!("wgpu: {e}")))?;
-    Ok(out)
+    Ok(c.out.clone())
 }
 
 /// The Milky Way pass's uniforms and extinction table for `state`: the

@@ -43,7 +43,8 @@ pub struct RenderOutput {
     pub passes: Vec<PassStat>,
     /// Time spent on (or loading) the parameter-dependent LUTs, ms.
     pub precompute_ms: f64,
-    /// Where the LUTs came from: `computed`, `disk-cache`, `memory`, or `none`.
+    /// Where the LUTs came from: `computed`, `disk-cache`, `memory`, `gpu`
+    /// (computed by the wgpu backend's compute shaders), or `none`.
     pub lut_source: &'static str,
     /// Time spent on the per-pixel view directions, ms.
     pub geometry_ms: f64,

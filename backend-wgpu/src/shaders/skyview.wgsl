@@ -1,7 +1,8 @@
 // The per-frame sky-view LUT on the GPU: a port of lut.rs
 // `SkyView::row`/`SkyView::transfer` and `SkyView::from_rows` (Hillaire
 // 2020 §5: a ray march per texel lit through the transmittance and
-// multiple-scattering LUTs, which stay CPU-precomputed and are uploaded).
+// multiple-scattering LUTs, computed by luts.wgsl or uploaded from the CPU
+// precompute).
 //
 // Spectra have 10 bands, held as three vec4 "band groups" (bands 4k..4k+3;
 // the last two lanes of group 2 are zero); LUT texels store their three

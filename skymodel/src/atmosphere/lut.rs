@@ -182,8 +182,10 @@ pub struct AtmosphereLuts {
     pub multiscatter: Lut2<Spectrum>,
 }
 
-/// Uniform directions on the unit sphere, stratified in (cos θ, φ).
-fn sphere_directions(n: usize) -> Vec<Vec3> {
+/// Uniform directions on the unit sphere, stratified in (cos θ, φ): k²
+/// directions, k = round(√n) (the direction set of the multiple-scattering
+/// LUT, [`AtmosphereLuts::multiscatter_row`]; the GPU port uploads it).
+pub fn sphere_directions(n: usize) -> Vec<Vec3> {
     let k = (n as f32).sqrt().round().max(1.0) as usize;
     let mut out = Vec::with_capacity(k * k);
     for i in 0..k {

@@ -1,0 +1,467 @@
+//! The parameter-dependent atmosphere LUTs computed by WGSL compute
+//! shaders (`src/shaders/luts.wgsl`), a port of skymodel lut.rs
+//! `AtmosphereLuts::transmittance_lut` and `AtmosphereLuts::multiscatter_row`
+//! (Hillaire 2020, "A scalable and production ready sky and atmosphere
+//! rendering technique", EGSR, §4–5; the transmittance parameterisation of
+//! Bruneton 2017): the same parametrisation, step counts and direction set
+//! ([`sphere_directions`], uploaded), written in the buffer layout the
+//! sky-view shader reads (three vec4 band groups per texel).
+//!
+//! [`LutSource`] chooses between these and the CPU precompute
+//! (`himmel_cpu::precompute`, with its disk cache) uploaded.
+
+use bytemuck::{Pod, Zeroable};
+use himmel_skymodel::atmosphere::lut::{forward_scattering, sphere_directions, Lut2};
+use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, LutConfig, Medium};
+use himmel_skymodel::renderer::RenderError;
+use himmel_skymodel::spectrum::{Spectrum, BANDS};
+use wgpu::util::DeviceExt;
+
+use crate::{band_groups, storage_entry, uniform_entry};
+
+/// The WGSL source of the LUT passes.
+pub const LUTS_WGSL: &str = include_str!("shaders/luts.wgsl");
+
+/// Where [`crate::WgpuRenderer`] takes the parameter-dependent LUTs from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LutSource {
+    /// Computed by the compute shaders of this module (`lut_source`
+    /// `gpu`), read back once per parameter set for the CPU-side tables
+    /// (Sun disk, star extinction).
+    Gpu,
+    /// The CPU precompute (`himmel_cpu::precompute`, memory and disk
+    /// cache: `lut_source` `computed`, `disk-cache`, `memory`), uploaded.
+    Cpu,
+}
+
+impl LutSource {
+    /// `gpu` or `cpu`.
+    pub fn name(self) -> &'static str {
+        match self {
+            LutSource::Gpu => "gpu",
+            LutSource::Cpu => "cpu",
+        }
+    }
+
+    /// The default for an adapter: the compute shaders on a hardware GPU;
+    /// the CPU precompute on a software adapter (`DeviceType::Cpu`, e.g.
+    /// Mesa's lavapipe), which runs on the same cores: there the shaders
+    /// measured only ≈ 20 % faster per computation (175 vs 215 ms at the
+    /// default `LutConfig`, `benches/render.rs` group `precompute`), while
+    /// the CPU precompute's disk cache serves every later process in
+    /// ≈ 1.3 ms.
+    pub fn default_for(device_type: wgpu::DeviceType) -> Self {
+        match device_type {
+            wgpu::DeviceType::Cpu => LutSource::Cpu,
+            _ => LutSource::Gpu,
+        }
+    }
+}
+
+/// Mirror of WGSL `struct LutParams` (src/shaders/luts.wgsl): the medium
+/// (medium.rs `Medium`, coefficients in km⁻¹, spectra as three vec4 band
+/// groups, the last two lanes zero) and the LUT configuration. 320 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct LutUniforms {
+    /// Rayleigh scattering at sea level, km⁻¹.
+    pub rayleigh: [[f32; 4]; 3],
+    /// Aerosol scattering at sea level, km⁻¹.
+    pub mie_scattering: [[f32; 4]; 3],
+    /// Aerosol extinction at sea level, km⁻¹.
+    pub mie_extinction: [[f32; 4]; 3],
+    /// Ozone absorption at the peak, km⁻¹.
+    pub ozone: [[f32; 4]; 3],
+    /// δ-scaled forward scattering f·σ_M (lut.rs `forward_scattering`), km⁻¹.
+    pub forward: [[f32; 4]; 3],
+    /// Ground radius, top radius (km), 1/H_R, 1/H_M (km⁻¹).
+    pub s0: [f32; 4],
+    /// Ozone peak altitude (km), 1/ozone half width (km⁻¹), g, albedo.
+    pub s1: [f32; 4],
+    /// Sun angular radius (rad), cos of the forward peak, 1 when the
+    /// forward peak is on, reserved.
+    pub s2: [f32; 4],
+    /// Transmittance LUT w, h, march steps; multiple-scattering LUT n.
+    pub dims: [u32; 4],
+    /// Multiple-scattering directions (k², as [`sphere_directions`]
+    /// returns them), march steps, scattering orders, reserved.
+    pub dims2: [u32; 4],
+}
+
+/// The uniforms of the LUT passes for `medium` and `config`; `dirs` is the
+/// number of multiple-scattering directions.
+pub fn lut_uniforms(medium: &Medium, config: &LutConfig, dirs: usize) -> LutUniforms {
+    let m = medium;
+    LutUniforms {
+        rayleigh: band_groups(&m.rayleigh),
+        mie_scattering: band_groups(&m.mie_scattering),
+        mie_extinction: band_groups(&m.mie_extinction),
+        ozone: band_groups(&m.ozone),
+        forward: band_groups(&forward_scattering(m, config)),
+        s0: [m.bottom, m.top, m.inv_h_r, m.inv_h_m],
+        s1: [m.ozone_peak, m.inv_ozone_w, m.g, m.albedo],
+        s2: [
+            m.sun_angular_radius,
+            config.forward_peak_deg.to_radians().cos(),
+            if config.forward_peak_deg > 0.0 {
+                1.0
+            } else {
+                0.0
+            },
+            0.0,
+        ],
+        dims: [
+            config.transmittance_w as u32,
+            config.transmittance_h as u32,
+            config.transmittance_steps as u32,
+            config.multiscatter_n as u32,
+        ],
+        dims2: [
+            dirs as u32,
+            config.multiscatter_steps as u32,
+            config.orders,
+            0,
+        ],
+    }
+}
+
+/// The compiled LUT passes (`transmittance`, `multiscatter`) and their
+/// bind group layout.
+#[derive(Debug)]
+pub struct LutPipelines {
+    layout: wgpu::BindGroupLayout,
+    transmittance: wgpu::ComputePipeline,
+    multiscatter: wgpu::ComputePipeline,
+}
+
+impl LutPipelines {
+    /// Compiles `luts.wgsl` on `device`.
+    pub fn new(device: &wgpu::Device) -> Self {
+        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some("luts.wgsl"),
+            source: wgpu::ShaderSource::Wgsl(LUTS_WGSL.into()),
+        });
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("atmosphere LUTs"),
+            entries: &[
+                uniform_entry::<LutUniforms>(0),
+                storage_entry(1, false),
+                storage_entry(2, false),
+                storage_entry(3, false),
+                storage_entry(4, true),
+            ],
+        });
+        let pipeline = crate::compute_pipelines(device, &module, &layout, "atmosphere LUTs");
+        LutPipelines {
+            transmittance: pipeline("transmittance"),
+            multiscatter: pipeline("multiscatter"),
+            layout,
+        }
+    }
+}
+
+/// The LUTs on the GPU (three vec4 band groups per texel, row-major):
+/// transmittance, δ-scaled transmittance, multiple scattering Ψ_ms.
+#[derive(Debug)]
+pub struct LutBuffers {
+    /// Transmittance to the top of the atmosphere, `transmittance_w` ×
+    /// `transmittance_h` texels.
+    pub trans: wgpu::Buffer,
+    /// δ-scaled transmittance, same size.
+    pub trans_s: wgpu::Buffer,
+    /// Ψ_ms, `multiscatter_n`² texels (u: μ_s, v: altitude).
+    pub multi: wgpu::Buffer,
+}
+
+/// Why `config` cannot be computed on the GPU (a zero size or step count).
+fn check(config: &LutConfig) -> Result<(), RenderError> {
+    let sizes = [
+        ("transmittance_w", config.transmittance_w),
+        ("transmittance_h", config.transmittance_h),
+        ("transmittance_steps", config.transmittance_steps),
+        ("multiscatter_n", config.multiscatter_n),
+        ("multiscatter_dirs", config.multiscatter_dirs),
+        ("multiscatter_steps", config.multiscatter_steps),
+    ];
+    for (name, v) in sizes {
+        if v == 0 || v > u32::MAX as usize / 64 {
+            return Err(RenderError::Scene(
+                format!("lut.{name}"),
+                format!("must be in 1..={}, got {v}", u32::MAX / 64),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// Records and submits the LUT passes for `params` and `config` (the
+/// transmittance pair, then Ψ_ms from the δ-scaled transmittance); does
+/// not wait for completion. Returns the output buffers (`STORAGE |
+/// COPY_SRC`).
+pub fn dispatch(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    p: &LutPipelines,
+    params: &AtmosphereParams,
+    config: &LutConfig,
+) -> Result<LutBuffers, RenderError> {
+    check(config)?;
+    let medium = Medium::new(params);
+    let dirs: Vec<[f32; 4]> = sphere_directions(config.multiscatter_dirs)
+        .iter()
+        .map(|d| [d.x, d.y, d.z, 0.0])
+        .collect();
+    let u = lut_uniforms(&medium, config, dirs.len());
+    let (tw, th, n) = (
+        config.transmittance_w as u64,
+        config.transmittance_h as u64,
+        config.multiscatter_n as u64,
+    );
+    let out = |label, texels: u64| {
+        device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: texels * 48,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        })
+    };
+    let bufs = LutBuffers {
+        trans: out("transmittance", tw * th),
+        trans_s: out("scattering transmittance", tw * th),
+        multi: out("multiple scattering", n * n),
+    };
+    let uniform = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("LUT parameters"),
+        contents: bytemuck::bytes_of(&u),
+        usage: wgpu::BufferUsages::UNIFORM,
+    });
+    let dir_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some("multiple-scattering directions"),
+        contents: bytemuck::cast_slice(&dirs),
+        usage: wgpu::BufferUsages::STORAGE,
+    });
+    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("atmosphere LUTs"),
+        layout: &p.layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: bufs.trans.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: bufs.trans_s.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: bufs.multi.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: dir_buf.as_entire_binding(),
+            },
+        ],
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    {
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("transmittance LUTs"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&p.transmittance);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups((tw as u32).div_ceil(8), (th as u32).div_ceil(8), 1);
+    }
+    {
+        // A separate pass: Ψ_ms reads the δ-scaled transmittance.
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("multiple-scattering LUT"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&p.multiscatter);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(n as u32, n as u32, 1);
+    }
+    queue.submit([enc.finish()]);
+    Ok(bufs)
+}
+
+fn wgpu_err(e: impl std::fmt::Display) -> RenderError {
+    RenderError::Other(format!("wgpu: {e}"))
+}
+
+/// Waits for the LUT passes, copies the three buffers back and assembles
+/// them as [`AtmosphereLuts`] (`AtmosphereLuts::from_parts`) for the
+/// CPU-side users of the LUTs (the Sun-disk table, the stars' extinction,
+/// the CPU sky view).
+pub fn read_back(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    bufs: &LutBuffers,
+    params: &AtmosphereParams,
+    config: &LutConfig,
+) -> Result<AtmosphereLuts, RenderError> {
+    let (tw, th, n) = (
+        config.transmittance_w,
+        config.transmittance_h,
+        config.multiscatter_n,
+    );
+    let (t_bytes, m_bytes) = ((tw * th * 48) as u64, (n * n * 48) as u64);
+    let read = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("LUT read"),
+        size: 2 * t_bytes + m_bytes,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(&bufs.trans, 0, &read, 0, t_bytes);
+    enc.copy_buffer_to_buffer(&bufs.trans_s, 0, &read, t_bytes, t_bytes);
+    enc.copy_buffer_to_buffer(&bufs.multi, 0, &read, 2 * t_bytes, m_bytes);
+    queue.submit([enc.finish()]);
+    let slice = read.slice(..);
+    let (tx, rx) = std::sync::mpsc::channel();
+    slice.map_async(wgpu::MapMode::Read, move |r| {
+        let _ = tx.send(r);
+    });
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(wgpu_err)?;
+    rx.recv().map_err(wgpu_err)?.map_err(wgpu_err)?;
+    let spectra: Vec<Spectrum> = {
+        let bytes = slice.get_mapped_range().map_err(wgpu_err)?;
+        let groups: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
+        groups
+            .chunks_exact(3)
+            .map(|g| Spectrum(std::array::from_fn(|b| g[b / 4][b % 4])))
+            .collect()
+    };
+    read.unmap();
+    debug_assert_eq!(BANDS, 10);
+    let lut = |range: std::ops::Range<usize>, w, h| Lut2 {
+        w,
+        h,
+        data: spectra[range].to_vec(),
+    };
+    let t = lut(0..tw * th, tw, th);
+    let ts = lut(tw * th..2 * tw * th, tw, th);
+    let rows = spectra[2 * tw * th..]
+        .chunks_exact(n)
+        .map(<[Spectrum]>::to_vec)
+        .collect();
+    Ok(AtmosphereLuts::from_parts(params, config, t, ts, rows))
+}
+
+/// The LUTs for `params`/`config` computed on the GPU, awaited and read
+/// back: the GPU buffers and their CPU copy.
+pub fn compute(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    p: &LutPipelines,
+    params: &AtmosphereParams,
+    config: &LutConfig,
+) -> Result<(LutBuffers, AtmosphereLuts), RenderError> {
+    let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
+    let bufs = dispatch(device, queue, p, params, config)?;
+    let luts = read_back(device, queue, &bufs, params, config);
+    if let Some(e) = pollster::block_on(scope.pop()) {
+        return Err(RenderError::Other(format!("wgpu: {e}")));
+    }
+    Ok((bufs, luts?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::mem::{offset_of, size_of};
+
+    /// `LutUniforms` has the size and offsets naga computes for the WGSL
+    /// `LutParams` (uniform address space rules).
+    #[test]
+    fn lut_uniforms_mirror_the_wgsl_struct() {
+        assert_eq!(size_of::<LutUniforms>(), 320);
+        let module = naga::front::wgsl::parse_str(LUTS_WGSL).expect("luts.wgsl parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("LutParams"))
+            .expect("struct LutParams");
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("LutParams is not a struct");
+        };
+        assert_eq!(*span as usize, size_of::<LutUniforms>());
+        assert_eq!(layouter[handle].size as usize, size_of::<LutUniforms>());
+        let rust = [
+            ("rayleigh", offset_of!(LutUniforms, rayleigh)),
+            ("mie_scattering", offset_of!(LutUniforms, mie_scattering)),
+            ("mie_extinction", offset_of!(LutUniforms, mie_extinction)),
+            ("ozone", offset_of!(LutUniforms, ozone)),
+            ("forward", offset_of!(LutUniforms, forward)),
+            ("s0", offset_of!(LutUniforms, s0)),
+            ("s1", offset_of!(LutUniforms, s1)),
+            ("s2", offset_of!(LutUniforms, s2)),
+            ("dims", offset_of!(LutUniforms, dims)),
+            ("dims2", offset_of!(LutUniforms, dims2)),
+        ];
+        assert_eq!(members.len(), rust.len());
+        for (m, (name, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(name));
+            assert_eq!(m.offset as usize, off, "{name}");
+        }
+    }
+
+    /// The shader validates with its two entry points.
+    #[test]
+    fn luts_shader_validates() {
+        let module = naga::front::wgsl::parse_str(LUTS_WGSL).expect("luts.wgsl parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .expect("luts.wgsl validates");
+        let names: Vec<_> = module
+            .entry_points
+            .iter()
+            .map(|e| e.name.as_str())
+            .collect();
+        assert_eq!(names, ["transmittance", "multiscatter"]);
+    }
+
+    /// The policy: the shaders on every adapter but a software (CPU) one.
+    #[test]
+    fn default_source_by_adapter_type() {
+        use wgpu::DeviceType as D;
+        assert_eq!(LutSource::default_for(D::Cpu), LutSource::Cpu);
+        for d in [D::DiscreteGpu, D::IntegratedGpu, D::VirtualGpu, D::Other] {
+            assert_eq!(LutSource::default_for(d), LutSource::Gpu);
+        }
+        assert_eq!(
+            (LutSource::Gpu.name(), LutSource::Cpu.name()),
+            ("gpu", "cpu")
+        );
+    }
+
+    /// The uniforms carry the configuration and the direction count of the
+    /// CPU's direction set (k² for k = round(√n)).
+    #[test]
+    fn uniforms_carry_the_configuration() {
+        let params = AtmosphereParams::default();
+        let cfg = LutConfig::default();
+        let m = Medium::new(&params);
+        let dirs = sphere_directions(cfg.multiscatter_dirs).len();
+        let u = lut_uniforms(&m, &cfg, dirs);
+        assert_eq!(u.dims, [256, 64, 40, 48]);
+        assert_eq!(u.dims2, [64, 20, 0, 0]);
+        assert_eq!(sphere_directions(50).len(), 49);
+        assert_eq!(u.rayleigh[2][2], 0.0);
+        assert_eq!(u.rayleigh[0][0], m.rayleigh.0[0]);
+        assert_eq!(u.forward[1][1], forward_scattering(&m, &cfg).0[5]);
+        assert!((u.s2[1] - 15f32.to_radians().cos()).abs() < 1e-7);
+    }
+}
