@@ -32,6 +32,9 @@ struct Frame {
     // the Moon's centre (ENU unit); w: 1 when `sky` also holds the moonlit
     // sky view (cpu lib.rs `SkyLight`), 0 otherwise
     moon: vec4<f32>,
+    // solar eclipses: the Moon's centre (ENU unit) and the sine of its
+    // drawn radius; the Sun pass skips sub-samples behind its disk
+    eclipse: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -271,8 +274,11 @@ fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             let sd = s4.xyz;
-            // The ground hides the disk below the horizon.
-            if (sd.z < 0.0 || dot(sd, c) < frame.disk.x) {
+            // The ground hides the disk below the horizon; in a solar
+            // eclipse the Moon hides it.
+            let mc = frame.eclipse.xyz;
+            let behind_moon = dot(sd, mc) > 0.0 && length(cross(sd, mc)) < frame.eclipse.w;
+            if (sd.z < 0.0 || dot(sd, c) < frame.disk.x || behind_moon) {
                 continue;
             }
             let rho = min(length(cross(sd, c)) / frame.disk.y, 1.0);
