@@ -793,6 +793,19 @@ fn solar_eclipse_totality_dallas() {
     f.camera.width = 128;
     f.camera.height = 128;
     parity("solar eclipse totality, Dallas, fisheye", &f);
+    // The partial phase twelve minutes earlier: the photosphere's crescent
+    // beside the Moon's limb (the Sun's sub-samples behind the Moon skipped).
+    let mut p = s.clone();
+    p.time.utc = "2024-04-08T18:30:00Z".into();
+    let st = SkyState::at(&p).unwrap();
+    assert!((0.05..0.5).contains(&st.sun.visible_fraction));
+    p.camera.yaw_deg = st.sun.az_deg;
+    p.camera.pitch_deg = st.sun.alt_refracted_deg;
+    let st = SkyState::at(&p).unwrap();
+    let (c, g) = parity("solar eclipse partial phase, Dallas 18:30, 2.5° perspective", &p);
+    let (ec, eg) = (sun_sum(&c, &p, &st, 30.0), sun_sum(&g, &p, &st, 30.0));
+    eprintln!("partial phase: Σ Y within 30 px of the Sun CPU {ec:.4e}, GPU {eg:.4e}");
+    assert!((eg / ec - 1.0).abs() < 0.01, "{eg} vs {ec}");
 }
 
 /// A 1° close-up of the waxing gibbous Moon (phase 57°, 65° high over

@@ -210,12 +210,13 @@ fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
 }
 
 // The Sun table: linear sRGB radiance (cd/m²) of the disk at normalised
-// disk radius ρ = sin γ / sin R (nodes i/(n−1)) and line-of-sight zenith
+// disk radius ρ = sin γ / sin R (nodes sin(π/2 · i/(n−1)): uniform in
+// asin ρ, dense at the limb where μ^α falls steeply) and line-of-sight zenith
 // cosine z (nodes from z_min to z_max), limb darkening × transmittance.
 fn sun_sample(rho: f32, z: f32) -> vec3<f32> {
     let nr = frame.tables.z;
     let nz = frame.tables.w;
-    let x = clamp(rho, 0.0, 1.0) * f32(nr - 1u);
+    let x = asin(clamp(rho, 0.0, 1.0)) / HALF_PI * f32(nr - 1u);
     let span = max(frame.disk.w - frame.disk.z, 1e-12);
     let y = clamp((z - frame.disk.z) / span, 0.0, 1.0) * f32(nz - 1u);
     let x0 = min(u32(x), nr - 1u);
@@ -278,10 +279,14 @@ fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
             // eclipse the Moon hides it.
             let mc = frame.eclipse.xyz;
             let behind_moon = dot(sd, mc) > 0.0 && length(cross(sd, mc)) < frame.eclipse.w;
-            if (sd.z < 0.0 || dot(sd, c) < frame.disk.x || behind_moon) {
+            // The disk test by the sine of the angle from the centre
+            // (sun.rs `SunDisk::covers`: a cosine test near 1 is not
+            // accurate in f32).
+            let sc = length(cross(sd, c));
+            if (sd.z < 0.0 || dot(sd, c) <= 0.0 || sc >= frame.disk.y || behind_moon) {
                 continue;
             }
-            let rho = min(length(cross(sd, c)) / frame.disk.y, 1.0);
+            let rho = min(sc / frame.disk.y, 1.0);
             acc = acc + sun_sample(rho, sd.z);
         }
     }
