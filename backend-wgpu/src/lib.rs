@@ -1325,12 +1325,7 @@ pub fn moon_uniforms(
         }
         let rect = sun_rect(cam, sun.normalize(), 6.0 * rs);
         u.corona_rect = [rect.0, rect.1, rect.2, rect.3];
-        u.corona = [
-            (6.0 * rs32).cos(),
-            rs32,
-            rm,
-            cam.max_pixel_angle() as f32,
-        ];
+        u.corona = [(6.0 * rs32).cos(), rs32, rm, cam.max_pixel_angle() as f32];
         u.corona_z = [
             z0,
             dz,

@@ -193,6 +193,13 @@ pub const MOON_COR: usize = 240;
 /// Rows of the corona table.
 pub const MOON_COR_N: usize = 64;
 
+// The tables do not overlap, the eclipse table fits, and the whole
+// uniform fits the default 64 KiB uniform binding.
+const _: () = assert!(MOON_REFR + MOON_REFR_N <= MOON_ECL);
+const _: () = assert!(MOON_ECL + himmel_skymodel::moon::ECLIPSE_TABLE_N <= MOON_COR);
+const _: () = assert!(MOON_COR + MOON_COR_N == MOON_TABLE_ROWS);
+const _: () = assert!(std::mem::size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS <= 65536);
+
 /// The WGSL source of the image passes.
 pub const SKY_WGSL: &str = include_str!("shaders/sky.wgsl");
 
@@ -416,11 +423,6 @@ mod tests {
             let line = format!("const {name}: u32 = {want}u;");
             assert!(MOON_WGSL.contains(&line), "{line}");
         }
-        assert!(MOON_REFR + MOON_REFR_N <= MOON_ECL);
-        assert!(MOON_ECL + himmel_skymodel::moon::ECLIPSE_TABLE_N <= MOON_COR);
-        assert_eq!(MOON_COR + MOON_COR_N, MOON_TABLE_ROWS);
-        // The whole uniform fits the default 64 KiB binding.
-        assert!(size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS <= 65536);
     }
 
     /// The Moon module (sky.wgsl + moon.wgsl) validates.

@@ -692,7 +692,11 @@ fn moon_ran(s: &Scene, state: &SkyState, eclipse: bool) {
     let out = gpu().render(s, state).unwrap();
     let m = out.passes.iter().find(|p| p.name == "moon").unwrap();
     assert!(m.ran && m.ms.is_some(), "{m:?}");
-    let e = out.passes.iter().find(|p| p.name == "moon-eclipse").unwrap();
+    let e = out
+        .passes
+        .iter()
+        .find(|p| p.name == "moon-eclipse")
+        .unwrap();
     assert_eq!(e.ran, eclipse, "{e:?}");
     assert_eq!(e.reason.is_none(), eclipse, "{e:?}");
 }
@@ -711,7 +715,11 @@ fn moonlit_night_full_moon_up_fisheye() {
         Effect::Atmosphere,
     ];
     let state = SkyState::at(&s).unwrap();
-    assert!((38.0..43.0).contains(&state.moon.alt_deg), "{}", state.moon.alt_deg);
+    assert!(
+        (38.0..43.0).contains(&state.moon.alt_deg),
+        "{}",
+        state.moon.alt_deg
+    );
     assert!(state.moon.phase_angle_topo.to_degrees() < 8.0);
     let (c, g) = parity("moonlit night, full Moon 40°, fisheye", &s);
     moon_ran(&s, &state, false);
@@ -802,7 +810,10 @@ fn solar_eclipse_totality_dallas() {
     p.camera.yaw_deg = st.sun.az_deg;
     p.camera.pitch_deg = st.sun.alt_refracted_deg;
     let st = SkyState::at(&p).unwrap();
-    let (c, g) = parity("solar eclipse partial phase, Dallas 18:30, 2.5° perspective", &p);
+    let (c, g) = parity(
+        "solar eclipse partial phase, Dallas 18:30, 2.5° perspective",
+        &p,
+    );
     let (ec, eg) = (sun_sum(&c, &p, &st, 30.0), sun_sum(&g, &p, &st, 30.0));
     eprintln!("partial phase: Σ Y within 30 px of the Sun CPU {ec:.4e}, GPU {eg:.4e}");
     assert!((eg / ec - 1.0).abs() < 0.01, "{eg} vs {ec}");
@@ -856,4 +867,43 @@ fn low_moon_flattened_by_refraction() {
     let (mc, _) = moon_disk_mean(&s, &state, &c);
     let (mg, _) = moon_disk_mean(&s, &state, &g);
     assert!((mg / mc - 1.0).abs() < 0.01, "{mg} vs {mc}");
+}
+
+/// The moonlit night of `moonlit_night_full_moon_up_fisheye` as a cube map
+/// (6 × 64²: the Moon's sub-samples on its face) and as an equirect image
+/// with the Moon drawn 12 × its size (`moon_scale`: the analytic limb, 26 px
+/// across, with stars and the Milky Way behind it).
+#[test]
+fn moonlit_night_cube_map_and_large_moon_equirect() {
+    let mut s = scene("2024-01-25T20:00:00Z", Projection::Cubemap, 64, 64);
+    s.effects = vec![
+        Effect::Milkyway,
+        Effect::Stars,
+        Effect::Planets,
+        Effect::Moon,
+        Effect::Atmosphere,
+    ];
+    let state = SkyState::at(&s).unwrap();
+    parity("moonlit night, full Moon 40°, cube map (6×64²)", &s);
+    moon_ran(&s, &state, false);
+    let mut e = s.clone();
+    e.camera.projection = Projection::Equirect;
+    e.camera.width = 512;
+    e.camera.height = 256;
+    e.moon_scale = 12.0;
+    let state = SkyState::at(&e).unwrap();
+    let (c, g) = parity("moonlit night, Moon × 12, equirect 512×256", &e);
+    moon_ran(&e, &state, false);
+    // The disk replaces what is behind it: its pixels are the Moon's.
+    let (mx, my) = e
+        .camera
+        .dir_to_pixel(DVec3::from_array(state.moon.enu))
+        .unwrap();
+    let at = |img: &HdrImage| luminance(img.pixels[my as usize * 512 + mx as usize]) as f64;
+    eprintln!(
+        "Moon × 12: centre pixel CPU {:.1} GPU {:.1} cd/m²",
+        at(&c),
+        at(&g)
+    );
+    assert!(at(&c) > 1000.0 && (at(&g) / at(&c) - 1.0).abs() < 1e-3);
 }
