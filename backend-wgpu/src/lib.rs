@@ -22,8 +22,9 @@
 //!   `SkyLight`).
 //! * Sun: the disk (limb darkening of Hestroffer & Magnan 1998, extinction
 //!   by the transmittance LUT) is tabulated on the CPU as linear sRGB over
-//!   (normalised disk radius ρ, line-of-sight zenith cosine) — the exact
-//!   `SunDisk::radiance_rgb` at the nodes — and the shader supersamples
+//!   (normalised disk radius ρ, nodes uniform in asin ρ; line-of-sight
+//!   zenith cosine) — the exact `SunDisk::radiance_rgb` at the nodes — and
+//!   the shader supersamples
 //!   pixels near the disk with [`himmel_cpu::SUN_SUPERSAMPLING`]² sub-pixel
 //!   directions, as the CPU does.
 //!
@@ -40,12 +41,34 @@
 //!   sums the footprints of its tile's list over the pixel's solid angle (no
 //!   atomics).
 //!
-//! Adding a pass (the Moon): a WGSL entry point of
+//! * Moon (`src/shaders/moon.wgsl`, compiled after `sky.wgsl` in one
+//!   module, with its own bind group 1): skymodel moon.rs
+//!   `MoonShader::{sky_xy, surface_point, radiance, shade}` and cpu
+//!   moon_pass.rs `render` per pixel of the disk's bounding rectangle
+//!   ([`sun_rect`] around the centre with the CPU's limb margin) — the
+//!   albedo and normal maps (uploaded once as one storage buffer, bilinear
+//!   as on the CPU, `fast_atan2` for the selenographic coordinates), the
+//!   Lommel–Seeliger × opposition surge × phase-law factor, earthshine, and
+//!   the per-frame tables built on the CPU with the CPU's own code and
+//!   interpolated on the GPU like the CPU interpolates them: extinction
+//!   across the disk, the lunar-eclipse table (160 axis distances) and, for
+//!   a Moon below 15°, Bennett's refraction that `unrefract` takes off each
+//!   pixel ([`moon_uniforms`], [`MoonUniforms`]). The disk replaces what
+//!   the earlier passes (Milky Way, stars, planets) drew by its coverage
+//!   (analytic limb; disks under 16 px in radius supersampled 4 × 4 or
+//!   8 × 8 as on the CPU); `--stats` adds the CPU's `moon-eclipse` entry.
+//! * Solar eclipses: the Sun pass skips the sub-samples behind the Moon's
+//!   disk (`FrameUniforms::eclipse`), and the inner corona
+//!   (moon_pass.rs `render_corona`; the disk's mean radiance × the
+//!   transmittance tabulated over the zenith cosine) is a second dispatch
+//!   of the Sun pass over the rectangle within 6 R☉.
+//!
+//! Adding a pass: a WGSL entry point of
 //! the same shape as `atmosphere`/`sun` that adds into `accum` (extra
-//! tables go into further bindings, or a second bind group), a pipeline in
-//! `Pipelines`, and its `Effect` arm where `render_frame` maps planned
-//! passes to pipelines and dispatch rectangles; the parity tests then
-//! compare it with the CPU pass.
+//! tables go into further bindings, or a second bind group as the Moon's),
+//! a pipeline in `Pipelines`, and its `Effect` arm where `render_frame`
+//! maps planned passes to pipelines and dispatch rectangles; the parity
+//! tests then compare it with the CPU pass.
 //!
 //! Per-pass times come from timestamp queries where the adapter supports
 //! them (`Features::TIMESTAMP_QUERY`), otherwise from the CPU clock around

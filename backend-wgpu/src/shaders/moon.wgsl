@@ -101,11 +101,13 @@ fn map_texel(lon: f32, lat: f32, w: u32, h: u32) -> MapTexel {
     let v = clamp((0.5 - lat / PI) * f32(h) - 0.5, 0.0, f32(h - 1u));
     let i0f = floor(u);
     let j0f = floor(v);
-    let wi = i32(w);
-    let i0 = u32(((i32(i0f) % wi) + wi) % wi);
+    // i0f wrapped into [0, w) (rem_euclid) in float: exact for these
+    // integers, and no integer division (scalarised on CPU adapters).
+    let wf = f32(w);
+    let i0 = u32(i0f - wf * floor(i0f / wf));
     let j0 = u32(j0f);
     var t: MapTexel;
-    t.i = vec2<u32>(i0, (i0 + 1u) % w);
+    t.i = vec2<u32>(i0, select(i0 + 1u, 0u, i0 + 1u >= w));
     t.j = vec2<u32>(j0, min(j0 + 1u, h - 1u));
     t.f = vec2<f32>(u - i0f, v - j0f);
     return t;

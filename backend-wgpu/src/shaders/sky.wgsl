@@ -4,8 +4,8 @@
 // vec4 per pixel of the image (a cube map is the 6H×H strip of
 // conventions.md), back to front; `store` then writes the sum into the
 // rgba32float target texture (one layer, or six cube faces), alpha = 1
-// where the projection shows the scene. New passes (the Moon) are further
-// entry points of the same shape.
+// where the projection shows the scene. The Moon pass and the corona are
+// entry points of the same shape in moon.wgsl (compiled after this file).
 //
 // The Rust mirror of `Frame` is `FrameUniforms` (src/uniforms.rs); a test
 // checks the layout naga computes for this struct against it.
