@@ -1305,7 +1305,12 @@ pub fn moon_uniforms(
             ecl = [e.offset[0], e.offset[1], e.semidiameter, e.d_max];
             (geo_e, geo_n) = (e.geo_east, e.geo_north);
         }
-        let rect = sun_rect(cam, p.centre.as_dvec3(), (p.radius + margin) as f64);
+        // The rectangle holds every pixel the disk can touch: centres within
+        // radius + ½ pixel have coverage (`shade`), sub-samples reach half a
+        // pixel's diagonal, which the camera's largest pixel angle bounds
+        // where the Moon can be seen; never beyond the CPU's limb margin.
+        let reach = (2.0 * pixel.max(cam.max_pixel_angle() as f32)).min(margin);
+        let rect = sun_rect(cam, p.centre.as_dvec3(), (p.radius + reach) as f64);
         u = MoonUniforms {
             centre: v(p.centre, p.radius),
             east: v(p.east, p.sin_radius),

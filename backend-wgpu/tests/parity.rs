@@ -796,6 +796,24 @@ fn solar_eclipse_totality_dallas() {
     let sum = |img: &HdrImage| -> f64 { img.pixels.iter().map(|p| luminance(*p) as f64).sum() };
     eprintln!("totality: Σ Y CPU {:.4e}, GPU {:.4e}", sum(&c), sum(&g));
     assert!((sum(&g) / sum(&c) - 1.0).abs() < 0.01);
+    // In bands of 7 rows (the Sun's, the corona's and the Moon's
+    // rectangles split across bands), the image is the same; the corona's
+    // dispatch counts in the Sun pass's time.
+    let banded = {
+        let mut r = gpu();
+        r.set_max_band_bytes(Some(160 * 16 * 7));
+        let out = r.render(&s, &state);
+        r.set_max_band_bytes(None);
+        out.unwrap()
+    };
+    assert_eq!(banded.image, g, "banded");
+    let ran: Vec<_> = banded
+        .passes
+        .iter()
+        .filter(|p| p.ran)
+        .map(|p| (p.name.as_str(), p.ms.is_some()))
+        .collect();
+    assert_eq!(ran, [("moon", true), ("sun", true), ("atmosphere", true)]);
     let mut f = s.clone();
     f.camera.projection = Projection::Fisheye;
     f.camera.width = 128;
@@ -840,6 +858,18 @@ fn moon_close_up_perspective() {
     eprintln!("close-up: disk mean Y CPU {mc:.2} GPU {mg:.2} cd/m² ({n} px)");
     assert!(n > 10_000);
     assert!((mg / mc - 1.0).abs() < 0.01, "{mg} vs {mc}");
+    // In bands of 9 rows (the disk's rectangle split across bands) and
+    // with CPU-clock timing, the image is the same.
+    let mut r = gpu();
+    r.set_max_band_bytes(Some(256 * 16 * 9));
+    r.set_timestamps(false);
+    let banded = r.render(&s, &state);
+    r.set_max_band_bytes(None);
+    r.set_timestamps(true);
+    let banded = banded.unwrap();
+    assert_eq!(banded.image, g, "banded");
+    let m = banded.passes.iter().find(|p| p.name == "moon").unwrap();
+    assert!(m.ms.is_some(), "{m:?}");
 }
 
 /// A low Moon (4° high) drawn with the differential refraction across its
@@ -906,4 +936,91 @@ fn moonlit_night_cube_map_and_large_moon_equirect() {
         at(&g)
     );
     assert!(at(&c) > 1000.0 && (at(&g) / at(&c) - 1.0).abs() < 1e-3);
+}
+
+/// Every pixel the CPU's Moon pass draws lies in the rectangle the GPU's
+/// Moon pass is dispatched over (`moon_uniforms`), in all projections:
+/// a perspective close-up, a supersampled fisheye disk, an equirect disk
+/// × 12, a cube map and a low, refracted Moon.
+#[test]
+fn moon_rectangle_holds_every_drawn_pixel() {
+    let close = |p: Projection, w: u32, h: u32, fov: f64, scale: f64, utc: &str| {
+        let mut s = scene(utc, p, w, h);
+        s.effects = vec![Effect::Moon];
+        s.moon_scale = scale;
+        s.camera.fov_deg = fov;
+        let st = SkyState::at(&s).unwrap();
+        s.camera.yaw_deg = st.moon.az_deg + 0.2 * fov;
+        s.camera.pitch_deg = st.moon.alt_refracted_deg;
+        s
+    };
+    let scenes = [
+        close(
+            Projection::Perspective,
+            160,
+            120,
+            1.0,
+            1.0,
+            "2024-01-20T19:00:00Z",
+        ),
+        close(
+            Projection::Fisheye,
+            128,
+            128,
+            90.0,
+            1.0,
+            "2024-01-25T20:00:00Z",
+        ),
+        close(
+            Projection::Equirect,
+            256,
+            128,
+            90.0,
+            12.0,
+            "2024-01-25T20:00:00Z",
+        ),
+        close(
+            Projection::Cubemap,
+            48,
+            48,
+            90.0,
+            4.0,
+            "2024-01-25T20:00:00Z",
+        ),
+        close(
+            Projection::Perspective,
+            128,
+            128,
+            2.0,
+            1.0,
+            "2024-01-20T11:40:00Z",
+        ),
+    ];
+    for s in &scenes {
+        let state = SkyState::at(s).unwrap();
+        let img = CpuRenderer::new(None).render(s, &state).unwrap().image;
+        let (u, _) = himmel_wgpu::moon_uniforms(s, &state, None, [2, 2, 2, 2]);
+        let [x0, y0, x1, y1] = u.rect;
+        let mut drawn = 0;
+        for (i, p) in img.pixels.iter().enumerate() {
+            if luminance(*p) > 0.0 {
+                drawn += 1;
+                let (x, y) = ((i % img.width) as u32, (i / img.width) as u32);
+                assert!(
+                    (x0..x1).contains(&x) && (y0..y1).contains(&y),
+                    "{:?}: ({x}, {y}) outside {:?}",
+                    s.camera.projection,
+                    u.rect
+                );
+            }
+        }
+        assert!(drawn > 0, "{:?}: no Moon", s.camera.projection);
+        eprintln!(
+            "{:?}: {drawn} Moon pixels in a {}×{} rectangle (Moon {:.1}° up)",
+            s.camera.projection,
+            x1 - x0,
+            y1 - y0,
+            state.moon.alt_refracted_deg
+        );
+    }
 }
