@@ -513,9 +513,15 @@ fn stars_parity(name: &str, p: Projection, w: u32, h: u32) {
 /// of the GPU image at the same pixel (0 px offset; the acceptance allows
 /// 0.5 px).
 fn same_peaks(name: &str, c: &HdrImage, g: &HdrImage) {
-    let pc = peaks(c, 20.0);
-    let pg = peaks(g, 20.0);
-    assert!(pc.len() >= 50, "{name}: {} star peaks", pc.len());
+    same_peaks_above(name, c, g, 20.0, 50);
+}
+
+/// [`same_peaks`] for the peaks at least `k` × the median luminance, of
+/// which there must be `min`.
+fn same_peaks_above(name: &str, c: &HdrImage, g: &HdrImage, k: f32, min: usize) {
+    let pc = peaks(c, k);
+    let pg = peaks(g, k);
+    assert!(pc.len() >= min, "{name}: {} star peaks", pc.len());
     let mut same = 0;
     for &(i, j, _) in pc.iter().take(200) {
         if pg.iter().any(|q| q.0 == i && q.1 == j) {
@@ -723,6 +729,9 @@ fn moonlit_night_full_moon_up_fisheye() {
     assert!(state.moon.phase_angle_topo.to_degrees() < 8.0);
     let (c, g) = parity("moonlit night, full Moon 40°, fisheye", &s);
     moon_ran(&s, &state, false);
+    // The brighter stars still show in the moonlit sky (the 31 peaks above
+    // 1.3 × the median sky; the Moon is one), at the same pixels.
+    same_peaks_above("moonlit night", &c, &g, 1.3, 25);
     // The disk (supersampled, a fraction of a pixel) carries the same light.
     let (mx, my) = s
         .camera
