@@ -45,7 +45,7 @@
 //!   module, with its own bind group 1): skymodel moon.rs
 //!   `MoonShader::{sky_xy, surface_point, radiance, shade}` and cpu
 //!   moon_pass.rs `render` per pixel of the disk's bounding rectangle
-//!   ([`sun_rect`] around the centre with the CPU's limb margin) — the
+//!   ([`sun_rect`] around the centre, radius + 2 pixels) — the
 //!   albedo and normal maps (uploaded once as one storage buffer, bilinear
 //!   as on the CPU, `fast_atan2` for the selenographic coordinates), the
 //!   Lommel–Seeliger × opposition surge × phase-law factor, earthshine, and
@@ -1267,16 +1267,9 @@ pub fn moon_uniforms(
         );
         let p = shader.parts();
         let pixel = himmel_cpu::moon_pass::local_pixel_angle(cam, p.centre.as_dvec3()) as f32;
-        let margin = (2.0 * pixel).max(1e-3);
+        let margin = himmel_cpu::moon_pass::limb_margin(pixel);
         let cos_bound = shader.cos_bound(margin);
-        let r_px = p.radius / pixel;
-        let n = if r_px < 4.0 {
-            8
-        } else if r_px < 16.0 {
-            4
-        } else {
-            0
-        };
+        let n = himmel_cpu::moon_pass::supersampling(p.radius / pixel) as u32;
         let v = |a: Vec3, w: f32| [a.x, a.y, a.z, w];
         let c = |a: [f32; 3], w: f32| [a[0], a[1], a[2], w];
         // Bennett's refraction over the apparent altitudes the disk test
