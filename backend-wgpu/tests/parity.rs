@@ -1033,3 +1033,41 @@ fn moon_rectangle_holds_every_drawn_pixel() {
         );
     }
 }
+
+/// The Moon rising through the horizon at night (2024-01-27, Munich, Sun
+/// −18°, phase 22°; refracted altitude of the centre within ±0.15°): the
+/// ground hides the lower half, the refraction is strongest, the extinction
+/// steepest across the disk; 2° perspective.
+#[test]
+fn moon_on_the_horizon() {
+    let mut s = scene("2024-01-27T17:45:00Z", Projection::Perspective, 192, 192);
+    s.effects = vec![Effect::Moon, Effect::Atmosphere];
+    s.camera.fov_deg = 2.0;
+    let mut state = SkyState::at(&s).unwrap();
+    for m in 45..60 {
+        s.time.utc = format!("2024-01-27T17:{m:02}:00Z");
+        state = SkyState::at(&s).unwrap();
+        if state.moon.alt_refracted_deg > -0.15 {
+            break;
+        }
+    }
+    let alt = state.moon.alt_refracted_deg;
+    assert!((-0.15..0.15).contains(&alt), "{alt}");
+    assert!(state.sun.alt_deg < -12.0);
+    s.camera.yaw_deg = state.moon.az_deg;
+    s.camera.pitch_deg = alt;
+    let state = SkyState::at(&s).unwrap();
+    let (c, g) = parity(
+        &format!("Moon on the horizon ({alt:.2}°), 2° perspective"),
+        &s,
+    );
+    moon_ran(&s, &state, false);
+    // The upper part of the disk is drawn and outshines the sky beside it
+    // (the mean over the disk includes the ground below the horizon).
+    let (mc, n) = moon_disk_mean(&s, &state, &c);
+    let (mg, _) = moon_disk_mean(&s, &state, &g);
+    let sky = luminance(c.pixels[96 * 192 + 5]) as f64;
+    eprintln!("horizon: disk mean Y CPU {mc:.4} GPU {mg:.4} cd/m² ({n} px), sky beside {sky:.4}");
+    assert!(mc > 5.0 * sky, "{mc} vs sky {sky}");
+    assert!((mg / mc - 1.0).abs() < 0.01, "{mg} vs {mc}");
+}
