@@ -1273,9 +1273,10 @@ pub fn moon_uniforms(
         let v = |a: Vec3, w: f32| [a.x, a.y, a.z, w];
         let c = |a: [f32; 3], w: f32| [a[0], a[1], a[2], w];
         // Bennett's refraction over the apparent altitudes the disk test
-        // lets through (radius + margin around the centre).
+        // lets through (radius + margin around the centre, and the
+        // sub-samples of the pixels at its edge).
         let alt_c = p.centre.z.clamp(-1.0, 1.0).asin();
-        let span = (p.radius + margin) * 1.1 + 1e-4;
+        let span = (p.radius + margin + cam.max_pixel_angle() as f32) * 1.1 + 1e-4;
         let (alt0, dalt) = (alt_c - span, 2.0 * span / (MOON_REFR_N - 1) as f32);
         if p.refract {
             for k in 0..MOON_REFR_N {

@@ -906,6 +906,22 @@ fn low_moon_flattened_by_refraction() {
     let (mc, _) = moon_disk_mean(&s, &state, &c);
     let (mg, _) = moon_disk_mean(&s, &state, &g);
     assert!((mg / mc - 1.0).abs() < 0.01, "{mg} vs {mc}");
+    // The same Moon as a supersampled disk of a 256² fisheye (un-refracted
+    // sub-samples), alone: the same light.
+    let mut f = s.clone();
+    f.camera.projection = Projection::Fisheye;
+    f.camera.width = 256;
+    f.camera.height = 256;
+    f.effects = vec![Effect::Moon];
+    let (c, g) = parity("low Moon (refraction), fisheye, Moon alone", &f);
+    let sum = |img: &HdrImage| -> f64 { img.pixels.iter().map(|p| luminance(*p) as f64).sum() };
+    assert!(sum(&c) > 0.0);
+    assert!(
+        (sum(&g) / sum(&c) - 1.0).abs() < 1e-3,
+        "{} vs {}",
+        sum(&g),
+        sum(&c)
+    );
 }
 
 /// The moonlit night of `moonlit_night_full_moon_up_fisheye` as a cube map
