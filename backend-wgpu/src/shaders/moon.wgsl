@@ -88,8 +88,8 @@ fn fast_atan2(y: f32, x: f32) -> f32 {
 }
 
 // Texel coordinates of (lon, lat) on a w × h equirectangular map
-// (moon.rs `AlbedoMap::sample`): columns i0, i1 (wrapping), rows j0, j1,
-// fractions in z, w.
+// (moon.rs `AlbedoMap::sample`): columns i0, i1 (wrapping), rows j0, j1
+// (clamped), and the bilinear fractions.
 struct MapTexel {
     i: vec2<u32>,
     j: vec2<u32>,
