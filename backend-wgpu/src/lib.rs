@@ -53,7 +53,7 @@
 //!   interpolated on the GPU like the CPU interpolates them: extinction
 //!   across the disk, the lunar-eclipse table (160 axis distances) and, for
 //!   a Moon below 15°, Bennett's refraction that `unrefract` takes off each
-//!   pixel ([`moon_uniforms`], [`MoonUniforms`]). The disk replaces what
+//!   pixel ([`moon_uniforms`], [`uniforms::MoonUniforms`]). The disk replaces what
 //!   the earlier passes (Milky Way, stars, planets) drew by its coverage
 //!   (analytic limb; disks under 16 px in radius supersampled 4 × 4 or
 //!   8 × 8 as on the CPU); `--stats` adds the CPU's `moon-eclipse` entry.
@@ -88,8 +88,8 @@ use himmel_skymodel::sun::SunDisk;
 use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
-use uniforms::{projection_code, MOON_WGSL, SKYVIEW_WGSL, SKY_WGSL};
-pub use uniforms::{AtmosphereUniforms, FrameUniforms, MoonUniforms, NightUniforms, PointRecord};
+use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
+pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms, PointRecord};
 
 /// Nodes of the Sun table in normalised disk radius ρ.
 pub const SUN_TABLE_RHO: usize = 64;
@@ -270,8 +270,8 @@ impl WgpuRenderer {
         .map_err(|e| WgpuError::Device(e.to_string()))?;
         let pipelines = Self::pipelines(&device);
         let skyview = skyview_pipelines(&device);
-        let moon = moon_pipelines(&device, &pipelines.layout);
         Ok(WgpuRenderer {
+            moon: moon_pipelines(&device, &pipelines.layout),
             device,
             queue,
             info,
@@ -284,7 +284,6 @@ impl WgpuRenderer {
             gpu_luts: None,
             sky_view_on_gpu: true,
             mw_map: None,
-            moon,
             moon_maps: None,
         })
     }
@@ -1183,7 +1182,7 @@ fn compute_pipelines<'a>(
 fn moon_pipelines(device: &wgpu::Device, sky: &wgpu::BindGroupLayout) -> MoonPipelines {
     let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
         label: Some("moon.wgsl"),
-        source: wgpu::ShaderSource::Wgsl(MOON_WGSL.into()),
+        source: wgpu::ShaderSource::Wgsl(uniforms::MOON_WGSL.into()),
     });
     let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("moon"),
@@ -1195,8 +1194,8 @@ fn moon_pipelines(device: &wgpu::Device, sky: &wgpu::BindGroupLayout) -> MoonPip
                     ty: wgpu::BufferBindingType::Uniform,
                     has_dynamic_offset: false,
                     min_binding_size: wgpu::BufferSize::new(
-                        (std::mem::size_of::<MoonUniforms>() + 16 * uniforms::MOON_TABLE_ROWS)
-                            as u64,
+                        (std::mem::size_of::<uniforms::MoonUniforms>()
+                            + 16 * uniforms::MOON_TABLE_ROWS) as u64,
                     ),
                 },
                 count: None,
@@ -1226,7 +1225,7 @@ fn moon_pipelines(device: &wgpu::Device, sky: &wgpu::BindGroupLayout) -> MoonPip
     }
 }
 
-/// The Moon pass's and the corona's uniform ([`MoonUniforms`]) and its
+/// The Moon pass's and the corona's uniform ([`uniforms::MoonUniforms`]) and its
 /// [`uniforms::MOON_TABLE_ROWS`] table rows for `state`, with `maps` the
 /// uploaded maps' sizes: the constants of skymodel moon.rs `MoonShader`
 /// (built as cpu moon_pass.rs `render` builds it: extinction from `luts`,
@@ -1243,10 +1242,12 @@ pub fn moon_uniforms(
     state: &SkyState,
     luts: Option<&AtmosphereLuts>,
     maps: [u32; 4],
-) -> (MoonUniforms, Vec<[f32; 4]>) {
+) -> (uniforms::MoonUniforms, Vec<[f32; 4]>) {
     use himmel_skymodel::moon::MoonShader;
     use himmel_skymodel::spectrum::BandWeights;
-    use uniforms::{MOON_COR, MOON_COR_N, MOON_ECL, MOON_EXT, MOON_REFR, MOON_REFR_N};
+    use uniforms::{
+        MoonUniforms, MOON_COR, MOON_COR_N, MOON_ECL, MOON_EXT, MOON_REFR, MOON_REFR_N,
+    };
     let cam = &scene.camera;
     let mut rows = vec![[0.0f32; 4]; uniforms::MOON_TABLE_ROWS];
     let mut u = MoonUniforms {
