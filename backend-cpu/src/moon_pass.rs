@@ -37,24 +37,13 @@ pub fn render(
     );
     let cam: &Camera = &scene.camera;
     let pixel = local_pixel_angle(cam, shader.centre.as_dvec3()) as f32;
-    // f32 dot products resolve ~0.02° near 1: keep the margin above that.
-    let cos_bound = shader.cos_bound((2.0 * pixel).max(1e-3));
+    let cos_bound = shader.cos_bound(limb_margin(pixel));
     let h = pixels.len() / w.max(1);
     let (x0, x1, y0, y1) = bounding_box(cam, &shader, w, h);
     if x0 >= x1 || y0 >= y1 {
         return;
     }
-    // Small disks (a few pixels across, e.g. all-sky images) are
-    // supersampled so that the light and the shape stay right; large ones
-    // use the analytic edge coverage.
-    let r_px = shader.radius / pixel;
-    let n = if r_px < 4.0 {
-        8
-    } else if r_px < 16.0 {
-        4
-    } else {
-        0
-    };
+    let n = supersampling(shader.radius / pixel);
     pixels
         .par_chunks_mut(w)
         .zip(dirs.par_chunks(w))
@@ -84,6 +73,27 @@ pub fn render(
                 }
             }
         });
+}
+
+/// The margin (radians) around the disk within which pixel centres are
+/// shaded, for pixels of `pixel` radians: two pixels, and at least 10⁻³
+/// rad (f32 dot products resolve ~0.02° near 1: the margin stays above that).
+pub fn limb_margin(pixel: f32) -> f32 {
+    (2.0 * pixel).max(1e-3)
+}
+
+/// Sub-samples per axis for a disk of `r_px` pixels in radius: small disks
+/// (a few pixels across, e.g. all-sky images) are supersampled 8 × 8 or
+/// 4 × 4 so that the light and the shape stay right; large ones (0) use
+/// the analytic edge coverage.
+pub fn supersampling(r_px: f32) -> usize {
+    if r_px < 4.0 {
+        8
+    } else if r_px < 16.0 {
+        4
+    } else {
+        0
+    }
 }
 
 /// Mean radiance of the disk's part of pixel (x, y) and its coverage, from

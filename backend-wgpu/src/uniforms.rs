@@ -17,7 +17,7 @@ pub mod projection_code {
 }
 
 /// Mirror of WGSL `struct Frame` (src/shaders/sky.wgsl): per-frame
-/// camera, Sun and table parameters. 144 bytes.
+/// camera, Sun and table parameters. 176 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct FrameUniforms {
@@ -43,6 +43,9 @@ pub struct FrameUniforms {
     /// The Moon's centre direction (ENU, unit); w = 1 when the sky holds
     /// the moonlit sky view (a second LUT after the Sun's), 0 otherwise.
     pub moon: [f32; 4],
+    /// The Moon's centre direction (ENU, unit) and the sine of its drawn
+    /// radius: the Sun pass hides the sub-samples behind it.
+    pub eclipse: [f32; 4],
 }
 
 /// Mirror of WGSL `struct Atmo` (src/shaders/skyview.wgsl): the medium,
@@ -125,8 +128,87 @@ pub struct PointRecord {
     pub c: [i32; 4],
 }
 
+/// Mirror of the header of WGSL `struct Moon` (src/shaders/moon.wgsl):
+/// the Moon pass's per-frame constants (skymodel moon.rs `MoonShader`) and
+/// the corona's; [`MOON_TABLE_ROWS`] vec4 table rows follow it in the
+/// uniform buffer. 288 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct MoonUniforms {
+    /// Disk centre (ENU, unit, refracted); w = drawn radius (rad).
+    pub centre: [f32; 4],
+    /// Celestial east at the (airless) centre; w = sin of the drawn radius.
+    pub east: [f32; 4],
+    /// Celestial north; w = 1 when pixel directions are un-refracted first.
+    pub north: [f32; 4],
+    /// Moon → Sun unit vector (sky frame); w = B(g) S(g) p/π.
+    pub sun: [f32; 4],
+    /// Selenographic X axis (sky frame); w = the pixel angle (rad).
+    pub axis_x: [f32; 4],
+    /// Selenographic Y axis; w = cosine bounding the disk with its margin.
+    pub axis_y: [f32; 4],
+    /// Selenographic Z axis (north pole); w reserved.
+    pub axis_z: [f32; 4],
+    /// Sunlight, linear sRGB; w = first extinction node (zenith cosine).
+    pub sun_rgb: [f32; 4],
+    /// Earthshine, linear sRGB; w = extinction node spacing.
+    pub earth_rgb: [f32; 4],
+    /// Lunar eclipse: offset from the shadow axis (east, north),
+    /// geocentric semidiameter, axis distance of the last node (rad).
+    pub eclipse: [f32; 4],
+    /// Geocentric sky east in the sky frame; w = first refraction node
+    /// (apparent altitude, rad).
+    pub geo_e: [f32; 4],
+    /// Geocentric sky north; w = refraction node spacing (rad).
+    pub geo_n: [f32; 4],
+    /// Extinction nodes, eclipse nodes (0: none), sub-samples per axis (0:
+    /// analytic limb), refraction nodes.
+    pub dims: [u32; 4],
+    /// Albedo map width, height; normal map width, height.
+    pub maps: [u32; 4],
+    /// The disk's pixel rectangle x0, y0, x1, y1.
+    pub rect: [u32; 4],
+    /// The corona's pixel rectangle x0, y0, x1, y1.
+    pub corona_rect: [u32; 4],
+    /// Corona: cos of 6 R☉, the Sun's drawn radius, the Moon's drawn
+    /// radius (rad), the camera's largest pixel angle.
+    pub corona: [f32; 4],
+    /// Corona table: first node, spacing (zenith cosine), nodes; the
+    /// profile at 6 R☉.
+    pub corona_z: [f32; 4],
+}
+
+/// Table rows after [`MoonUniforms`] (WGSL `Moon.tables`).
+pub const MOON_TABLE_ROWS: usize = 304;
+/// First row of the extinction table (at most 16 rows).
+pub const MOON_EXT: usize = 0;
+/// First row of the refraction table ([`MOON_REFR_N`] rows).
+pub const MOON_REFR: usize = 16;
+/// Rows of the refraction table.
+pub const MOON_REFR_N: usize = 64;
+/// First row of the eclipse table (`ECLIPSE_TABLE_N` = 160 rows).
+pub const MOON_ECL: usize = 80;
+/// First row of the corona table ([`MOON_COR_N`] rows).
+pub const MOON_COR: usize = 240;
+/// Rows of the corona table.
+pub const MOON_COR_N: usize = 64;
+
+// The tables do not overlap, the eclipse table fits, and the whole
+// uniform fits the default 64 KiB uniform binding.
+const _: () = assert!(MOON_REFR + MOON_REFR_N <= MOON_ECL);
+const _: () = assert!(MOON_ECL + himmel_skymodel::moon::ECLIPSE_TABLE_N <= MOON_COR);
+const _: () = assert!(MOON_COR + MOON_COR_N == MOON_TABLE_ROWS);
+const _: () = assert!(std::mem::size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS <= 65536);
+
 /// The WGSL source of the image passes.
 pub const SKY_WGSL: &str = include_str!("shaders/sky.wgsl");
+
+/// The WGSL source of the Moon and corona passes: `sky.wgsl` followed by
+/// `moon.wgsl` (one module; its own bind group 1).
+pub const MOON_WGSL: &str = concat!(
+    include_str!("shaders/sky.wgsl"),
+    include_str!("shaders/moon.wgsl")
+);
 
 /// The WGSL source of the sky-view LUT passes.
 pub const SKYVIEW_WGSL: &str = include_str!("shaders/skyview.wgsl");
@@ -140,7 +222,7 @@ mod tests {
     /// computes for the WGSL `Frame` (uniform address space rules).
     #[test]
     fn frame_uniforms_mirror_the_wgsl_struct() {
-        assert_eq!(size_of::<FrameUniforms>(), 160);
+        assert_eq!(size_of::<FrameUniforms>(), 176);
         assert_eq!(align_of::<FrameUniforms>(), 4);
         let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
         let mut layouter = naga::proc::Layouter::default();
@@ -166,6 +248,7 @@ mod tests {
             ("opts", offset_of!(FrameUniforms, opts)),
             ("band", offset_of!(FrameUniforms, band)),
             ("moon", offset_of!(FrameUniforms, moon)),
+            ("eclipse", offset_of!(FrameUniforms, eclipse)),
         ];
         assert_eq!(members.len(), rust.len());
         for (m, (name, off)) in members.iter().zip(rust) {
@@ -281,6 +364,79 @@ mod tests {
         for (m, (name, off)) in members.iter().zip(rust) {
             assert_eq!(m.name.as_deref(), Some(name));
             assert_eq!(m.offset as usize, off, "{name}");
+        }
+    }
+
+    /// `MoonUniforms` and the table rows have the layout naga computes
+    /// for `Moon`; the table offsets match the WGSL constants.
+    #[test]
+    fn moon_uniforms_mirror_the_wgsl_struct() {
+        assert_eq!(size_of::<MoonUniforms>(), 288);
+        let module = naga::front::wgsl::parse_str(MOON_WGSL).expect("moon.wgsl parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some("Moon"))
+            .expect("struct Moon");
+        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
+            panic!("Moon is not a struct");
+        };
+        assert_eq!(
+            layouter[handle].size as usize,
+            size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS
+        );
+        let rust = [
+            ("centre", offset_of!(MoonUniforms, centre)),
+            ("east", offset_of!(MoonUniforms, east)),
+            ("north", offset_of!(MoonUniforms, north)),
+            ("sun", offset_of!(MoonUniforms, sun)),
+            ("axis_x", offset_of!(MoonUniforms, axis_x)),
+            ("axis_y", offset_of!(MoonUniforms, axis_y)),
+            ("axis_z", offset_of!(MoonUniforms, axis_z)),
+            ("sun_rgb", offset_of!(MoonUniforms, sun_rgb)),
+            ("earth_rgb", offset_of!(MoonUniforms, earth_rgb)),
+            ("eclipse", offset_of!(MoonUniforms, eclipse)),
+            ("geo_e", offset_of!(MoonUniforms, geo_e)),
+            ("geo_n", offset_of!(MoonUniforms, geo_n)),
+            ("dims", offset_of!(MoonUniforms, dims)),
+            ("maps", offset_of!(MoonUniforms, maps)),
+            ("rect", offset_of!(MoonUniforms, rect)),
+            ("corona_rect", offset_of!(MoonUniforms, corona_rect)),
+            ("corona", offset_of!(MoonUniforms, corona)),
+            ("corona_z", offset_of!(MoonUniforms, corona_z)),
+            ("tables", size_of::<MoonUniforms>()),
+        ];
+        assert_eq!(members.len(), rust.len());
+        for (m, (name, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(name));
+            assert_eq!(m.offset as usize, off, "{name}");
+        }
+        // The table offsets of the WGSL constants.
+        for (name, want) in [
+            ("MOON_EXT", MOON_EXT),
+            ("MOON_REFR", MOON_REFR),
+            ("MOON_ECL", MOON_ECL),
+            ("MOON_COR", MOON_COR),
+        ] {
+            let line = format!("const {name}: u32 = {want}u;");
+            assert!(MOON_WGSL.contains(&line), "{line}");
+        }
+    }
+
+    /// The Moon module (sky.wgsl + moon.wgsl) validates.
+    #[test]
+    fn moon_shader_validates() {
+        let module = naga::front::wgsl::parse_str(MOON_WGSL).expect("moon.wgsl parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .expect("moon.wgsl validates");
+        for e in ["moon_disk", "corona"] {
+            assert!(module.entry_points.iter().any(|p| p.name == e), "{e}");
         }
     }
 

@@ -476,11 +476,12 @@ fn night_exr_star_peaks_and_illuminance_match_himmel_stars() {
     );
 }
 
-/// The night passes are not ported to WGSL yet: at noon they are culled as
-/// on the CPU and the frame renders on wgpu; at night, where they would
-/// show, `--backend wgpu` exits 3 and `auto` falls back to the CPU.
+/// At noon the night passes are culled as on the CPU; at night (Moon up,
+/// first quarter) every planned pass renders on wgpu — the Moon included —
+/// with per-pass times, and `--stats` lists the same passes as the CPU's
+/// (`moon-eclipse` too).
 #[test]
-fn wgpu_culls_night_passes_at_noon_and_refuses_them_at_night() {
+fn wgpu_culls_night_passes_at_noon_and_renders_the_night_with_the_moon() {
     let png = tmp("wn.png");
     let stats = tmp("wn.json");
     let noon = [
@@ -536,17 +537,35 @@ fn wgpu_culls_night_passes_at_noon_and_refuses_them_at_night() {
         "64",
         "--height",
         "64",
-        "--backend",
-        "wgpu",
+        "--stats",
+        &stats,
         "--output",
         &png,
     ];
-    let (code, _, err) = himmel(&night);
-    assert_eq!(code, 3, "{err}");
-    assert!(
-        err.starts_with("error: --backend wgpu:") && err.contains("not yet available"),
-        "{err}"
-    );
+    let mut names = Vec::new();
+    for backend in ["wgpu", "cpu"] {
+        let mut a = night.to_vec();
+        a.extend(["--backend", backend]);
+        let (code, _, err) = himmel(&a);
+        assert_eq!(code, 0, "{backend}: {err}");
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        assert_eq!(s["backend"], backend);
+        let passes = s["passes"].as_array().unwrap().clone();
+        let moon = passes.iter().find(|p| p["name"] == "moon").unwrap();
+        assert_eq!(moon["ran"], true, "{backend}: {moon}");
+        assert!(moon["ms"].as_f64().is_some_and(|t| t >= 0.0), "{moon}");
+        let e = passes.iter().find(|p| p["name"] == "moon-eclipse").unwrap();
+        assert_eq!(e["ran"], false, "{e}");
+        assert!(e["reason"].as_str().unwrap().contains("no lunar eclipse"));
+        names.push(
+            passes
+                .iter()
+                .map(|p| (p["name"].clone(), p["ran"].clone()))
+                .collect::<Vec<_>>(),
+        );
+    }
+    assert_eq!(names[0], names[1]);
     for p in [png, stats] {
         let _ = std::fs::remove_file(p);
     }

@@ -569,17 +569,25 @@ impl MoonState {
 /// at 10°, 3 % at 5° and 20 % at the horizon).
 pub const REFRACTION_FRAME_BELOW_DEG: f64 = 15.0;
 
+/// The refraction (radians) that [`unrefract`] takes off the apparent
+/// altitude `alt` (radians): Bennett's formula (Meeus eq. 16.3) at the
+/// standard 1010 hPa and 10 °C.
+#[inline]
+pub fn refraction_of_apparent(alt: f32) -> f32 {
+    himmel_astro::frames::refraction_apparent_to_true(
+        alt as f64,
+        himmel_astro::frames::STANDARD_PRESSURE_HPA,
+        himmel_astro::frames::STANDARD_TEMPERATURE_C,
+    ) as f32
+}
+
 /// The airless direction of the apparent (refracted) direction `d` (ENU,
 /// unit): its altitude lowered by Bennett's refraction (Meeus eq. 16.3,
 /// standard 1010 hPa, 10 °C), azimuth kept.
 #[inline]
 pub fn unrefract(d: Vec3) -> Vec3 {
     let alt = d.z.clamp(-1.0, 1.0).asin();
-    let r = himmel_astro::frames::refraction_apparent_to_true(
-        alt as f64,
-        himmel_astro::frames::STANDARD_PRESSURE_HPA,
-        himmel_astro::frames::STANDARD_TEMPERATURE_C,
-    ) as f32;
+    let r = refraction_of_apparent(alt);
     let hz = (d.x * d.x + d.y * d.y).sqrt();
     if hz < 1e-9 {
         return d;
@@ -730,6 +738,63 @@ pub struct MoonShader {
     eclipse: Option<EclipseShader>,
     map: &'static AlbedoMap,
     normals: &'static NormalMap,
+}
+
+/// [`MoonShader`]'s per-frame constants and tables ([`MoonShader::parts`]);
+/// the fields are those of [`MoonShader::new`] (sky frame: x east, y north,
+/// z towards the observer).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MoonShaderParts {
+    /// Centre direction (ENU, unit, refracted).
+    pub centre: Vec3,
+    /// Drawn angular radius, radians.
+    pub radius: f32,
+    /// Sine of the drawn radius.
+    pub sin_radius: f32,
+    /// Celestial east and north at the disk's (airless, when `refract`)
+    /// centre, ENU unit vectors ([`MoonShader::sky_xy`]).
+    pub east: Vec3,
+    /// See `east`.
+    pub north: Vec3,
+    /// Whether pixel directions are un-refracted first ([`unrefract`]).
+    pub refract: bool,
+    /// Unit vector from the Moon to the Sun in the sky frame.
+    pub sun: Vec3,
+    /// Selenographic axes X, Y, Z in the sky frame.
+    pub axes: [Vec3; 3],
+    /// B(g) S(g) p/π normalised as in [`MoonShader::radiance`].
+    pub sun_factor: f32,
+    /// Linear sRGB of the sunlight and of the earthshine at the centre's
+    /// extinction (cd/m² per unit BRDF factor).
+    pub sun_rgb: [f32; 3],
+    /// See `sun_rgb`.
+    pub earth_rgb: [f32; 3],
+    /// First node and spacing (zenith cosine) of `ext`.
+    pub ext_z0: f32,
+    /// See `ext_z0`.
+    pub ext_dz: f32,
+    /// Extinction relative to the centre's per node, linear sRGB factors.
+    pub ext: Vec<[f32; 3]>,
+    /// The lunar-eclipse shading, when it runs.
+    pub eclipse: Option<MoonEclipseParts>,
+}
+
+/// The lunar-eclipse part of [`MoonShaderParts`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct MoonEclipseParts {
+    /// The Moon centre's offset from the shadow axis (east, north), radians.
+    pub offset: [f32; 2],
+    /// The Moon's geocentric semidiameter, radians.
+    pub semidiameter: f32,
+    /// Geocentric sky east and north in the Moon's topocentric sky frame.
+    pub geo_east: Vec3,
+    /// See `geo_east`.
+    pub geo_north: Vec3,
+    /// Axis distance (radians) of the table's last node.
+    pub d_max: f32,
+    /// Sunlight relative to the uneclipsed Sun's at axis distances
+    /// d_max · k / ([`ECLIPSE_TABLE_N`] − 1), linear sRGB factors.
+    pub table: Vec<[f32; 3]>,
 }
 
 #[derive(Debug, Clone)]
@@ -991,6 +1056,36 @@ impl MoonShader {
             Vec3::new(x, y, (1.0 - r * r).sqrt())
         };
         Some((self.radiance(p, d.z), cov))
+    }
+
+    /// The shader's per-frame constants and tables, for a backend that
+    /// evaluates [`MoonShader::radiance`] and [`MoonShader::shade`]
+    /// elsewhere (the wgpu backend's WGSL port).
+    pub fn parts(&self) -> MoonShaderParts {
+        MoonShaderParts {
+            centre: self.centre,
+            radius: self.radius,
+            sin_radius: self.sin_radius,
+            east: self.east,
+            north: self.north,
+            refract: self.refract,
+            sun: self.sun,
+            axes: self.axes,
+            sun_factor: self.sun_factor,
+            sun_rgb: self.sun_rgb,
+            earth_rgb: self.earth_rgb,
+            ext_z0: self.ext_z0,
+            ext_dz: self.ext_dz,
+            ext: self.ext.clone(),
+            eclipse: self.eclipse.as_ref().map(|e| MoonEclipseParts {
+                offset: e.off,
+                semidiameter: e.sd,
+                geo_east: e.geo_e,
+                geo_north: e.geo_n,
+                d_max: e.d_max,
+                table: e.table.clone(),
+            }),
+        }
     }
 
     /// Luminance of [`MoonShader::radiance`] (for tests and metering).

@@ -4,8 +4,8 @@
 // vec4 per pixel of the image (a cube map is the 6H×H strip of
 // conventions.md), back to front; `store` then writes the sum into the
 // rgba32float target texture (one layer, or six cube faces), alpha = 1
-// where the projection shows the scene. New passes (the Moon) are further
-// entry points of the same shape.
+// where the projection shows the scene. The Moon pass and the corona are
+// entry points of the same shape in moon.wgsl (compiled after this file).
 //
 // The Rust mirror of `Frame` is `FrameUniforms` (src/uniforms.rs); a test
 // checks the layout naga computes for this struct against it.
@@ -32,6 +32,9 @@ struct Frame {
     // the Moon's centre (ENU unit); w: 1 when `sky` also holds the moonlit
     // sky view (cpu lib.rs `SkyLight`), 0 otherwise
     moon: vec4<f32>,
+    // solar eclipses: the Moon's centre (ENU unit) and the sine of its
+    // drawn radius; the Sun pass skips sub-samples behind its disk
+    eclipse: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -207,12 +210,13 @@ fn sky_radiance(dir: vec3<f32>) -> vec3<f32> {
 }
 
 // The Sun table: linear sRGB radiance (cd/m²) of the disk at normalised
-// disk radius ρ = sin γ / sin R (nodes i/(n−1)) and line-of-sight zenith
+// disk radius ρ = sin γ / sin R (nodes sin(π/2 · i/(n−1)): uniform in
+// asin ρ, dense at the limb where μ^α falls steeply) and line-of-sight zenith
 // cosine z (nodes from z_min to z_max), limb darkening × transmittance.
 fn sun_sample(rho: f32, z: f32) -> vec3<f32> {
     let nr = frame.tables.z;
     let nz = frame.tables.w;
-    let x = clamp(rho, 0.0, 1.0) * f32(nr - 1u);
+    let x = asin(clamp(rho, 0.0, 1.0)) / HALF_PI * f32(nr - 1u);
     let span = max(frame.disk.w - frame.disk.z, 1e-12);
     let y = clamp((z - frame.disk.z) / span, 0.0, 1.0) * f32(nz - 1u);
     let x0 = min(u32(x), nr - 1u);
@@ -271,11 +275,18 @@ fn sun(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             let sd = s4.xyz;
-            // The ground hides the disk below the horizon.
-            if (sd.z < 0.0 || dot(sd, c) < frame.disk.x) {
+            // The ground hides the disk below the horizon; in a solar
+            // eclipse the Moon hides it.
+            let mc = frame.eclipse.xyz;
+            let behind_moon = dot(sd, mc) > 0.0 && length(cross(sd, mc)) < frame.eclipse.w;
+            // The disk test by the sine of the angle from the centre
+            // (sun.rs `SunDisk::covers`: a cosine test near 1 is not
+            // accurate in f32).
+            let sc = length(cross(sd, c));
+            if (sd.z < 0.0 || dot(sd, c) <= 0.0 || sc >= frame.disk.y || behind_moon) {
                 continue;
             }
-            let rho = min(length(cross(sd, c)) / frame.disk.y, 1.0);
+            let rho = min(sc / frame.disk.y, 1.0);
             acc = acc + sun_sample(rho, sd.z);
         }
     }

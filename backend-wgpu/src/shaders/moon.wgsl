@@ -1,0 +1,352 @@
+// Himmel wgpu backend: the Moon pass and the solar-eclipse corona.
+//
+// Compiled after sky.wgsl in one module (it uses `frame`, `accum`,
+// `pixel_dir`), with its own bind group 1: the per-frame `Moon` uniform
+// (constants and tables of skymodel moon.rs `MoonShader`, tabulated on the
+// CPU) and the lunar albedo and normal maps (uploaded once).
+//
+// The Rust mirror of `Moon` is `MoonUniforms` (src/uniforms.rs) followed by
+// `MOON_TABLE_ROWS` vec4 table rows; a test checks the layout naga computes.
+
+struct Moon {
+    // disk centre (ENU unit, refracted); w: drawn radius (rad)
+    centre: vec4<f32>,
+    // celestial east at the (airless) centre; w: sin of the drawn radius
+    east: vec4<f32>,
+    // celestial north; w: 1 when pixel directions are un-refracted first
+    north: vec4<f32>,
+    // Moon → Sun unit vector (sky frame); w: B(g) S(g) p/π
+    sun: vec4<f32>,
+    // selenographic axes in the sky frame; w lanes: the pixel angle (rad),
+    // the cosine that bounds the disk (with its margin), reserved
+    axis_x: vec4<f32>,
+    axis_y: vec4<f32>,
+    axis_z: vec4<f32>,
+    // sunlight and earthshine (linear sRGB); w: first extinction node and
+    // node spacing (zenith cosine)
+    sun_rgb: vec4<f32>,
+    earth_rgb: vec4<f32>,
+    // lunar eclipse: the centre's offset from the shadow axis (east,
+    // north), geocentric semidiameter, axis distance of the last node (rad)
+    eclipse: vec4<f32>,
+    // geocentric sky east / north in the sky frame; w: first refraction
+    // node (apparent altitude, rad) and node spacing
+    geo_e: vec4<f32>,
+    geo_n: vec4<f32>,
+    // extinction nodes, eclipse nodes (0: no eclipse shading), sub-samples
+    // per axis (0: analytic limb), refraction nodes
+    dims: vec4<u32>,
+    // albedo map w, h; normal map w, h
+    maps: vec4<u32>,
+    // pixel rectangles [x0, x1) × [y0, y1) of the disk and of the corona
+    rect: vec4<u32>,
+    corona_rect: vec4<u32>,
+    // corona: cos of its outer radius (6 R☉), the Sun's drawn radius, the
+    // Moon's drawn radius (rad), the camera's largest pixel angle
+    corona: vec4<f32>,
+    // corona table: first node, spacing (zenith cosine), nodes; the
+    // profile at 6 R☉ (subtracted)
+    corona_z: vec4<f32>,
+    // extinction at MOON_EXT, refraction at MOON_REFR, eclipse at
+    // MOON_ECL, corona at MOON_COR
+    tables: array<vec4<f32>, 304>,
+}
+
+const MOON_EXT: u32 = 0u;
+const MOON_REFR: u32 = 16u;
+const MOON_ECL: u32 = 80u;
+const MOON_COR: u32 = 240u;
+
+@group(1) @binding(0) var<uniform> moon: Moon;
+// the albedo map (w × h), then the normal map's (east, north) pairs
+@group(1) @binding(1) var<storage, read> moon_maps: array<f32>;
+
+// atan2 with the degree-11 minimax polynomial of moon.rs `fast_atan2`.
+fn fast_atan2(y: f32, x: f32) -> f32 {
+    let ax = abs(x);
+    let ay = abs(y);
+    let swap = ay > ax;
+    let num = select(ay, ax, swap);
+    let den = select(ax, ay, swap);
+    if (den == 0.0) {
+        return 0.0;
+    }
+    let t = num / den;
+    let t2 = t * t;
+    var a = t * (0.99997726 + t2 * (-0.33262347 + t2 * (0.19354346
+        + t2 * (-0.11643287 + t2 * (0.05265332 + t2 * -0.0117212)))));
+    if (swap) {
+        a = HALF_PI - a;
+    }
+    if (x < 0.0) {
+        a = PI - a;
+    }
+    if (y < 0.0) {
+        return -a;
+    }
+    return a;
+}
+
+// Texel coordinates of (lon, lat) on a w × h equirectangular map
+// (moon.rs `AlbedoMap::sample`): columns i0, i1 (wrapping), rows j0, j1
+// (clamped), and the bilinear fractions.
+struct MapTexel {
+    i: vec2<u32>,
+    j: vec2<u32>,
+    f: vec2<f32>,
+}
+
+fn map_texel(lon: f32, lat: f32, w: u32, h: u32) -> MapTexel {
+    let u = (lon / TAU + 0.5) * f32(w) - 0.5;
+    let v = clamp((0.5 - lat / PI) * f32(h) - 0.5, 0.0, f32(h - 1u));
+    let i0f = floor(u);
+    let j0f = floor(v);
+    // i0f wrapped into [0, w) (rem_euclid) in float: exact for these
+    // integers, and no integer division (scalarised on CPU adapters).
+    let wf = f32(w);
+    let i0 = u32(i0f - wf * floor(i0f / wf));
+    let j0 = u32(j0f);
+    var t: MapTexel;
+    t.i = vec2<u32>(i0, select(i0 + 1u, 0u, i0 + 1u >= w));
+    t.j = vec2<u32>(j0, min(j0 + 1u, h - 1u));
+    t.f = vec2<f32>(u - i0f, v - j0f);
+    return t;
+}
+
+fn moon_albedo(lon: f32, lat: f32) -> f32 {
+    let w = moon.maps.x;
+    let t = map_texel(lon, lat, w, moon.maps.y);
+    let a = moon_maps[t.j.x * w + t.i.x] * (1.0 - t.f.x) + moon_maps[t.j.x * w + t.i.y] * t.f.x;
+    let b = moon_maps[t.j.y * w + t.i.x] * (1.0 - t.f.x) + moon_maps[t.j.y * w + t.i.y] * t.f.x;
+    return a * (1.0 - t.f.y) + b * t.f.y;
+}
+
+fn normal_texel(base: u32, w: u32, i: u32, j: u32) -> vec2<f32> {
+    let k = base + 2u * (j * w + i);
+    return vec2<f32>(moon_maps[k], moon_maps[k + 1u]);
+}
+
+// The normal map's (east, north) components (moon.rs `NormalMap::sample`).
+fn moon_normal(lon: f32, lat: f32) -> vec2<f32> {
+    let base = moon.maps.x * moon.maps.y;
+    let w = moon.maps.z;
+    let t = map_texel(lon, lat, w, moon.maps.w);
+    let a = normal_texel(base, w, t.i.x, t.j.x) * (1.0 - t.f.x) + normal_texel(base, w, t.i.y, t.j.x) * t.f.x;
+    let b = normal_texel(base, w, t.i.x, t.j.y) * (1.0 - t.f.x) + normal_texel(base, w, t.i.y, t.j.y) * t.f.x;
+    return a * (1.0 - t.f.y) + b * t.f.y;
+}
+
+// moon.rs `unrefract`: the apparent altitude lowered by Bennett's
+// refraction (tabulated on the CPU over the disk's altitudes), azimuth kept.
+fn moon_unrefract(d: vec3<f32>) -> vec3<f32> {
+    let alt = asin(clamp(d.z, -1.0, 1.0));
+    let n = moon.dims.w - 1u;
+    let x = clamp((alt - moon.geo_e.w) / moon.geo_n.w, 0.0, f32(n));
+    let i = min(u32(x), n - 1u);
+    let r = mix(moon.tables[MOON_REFR + i].x, moon.tables[MOON_REFR + i + 1u].x, x - f32(i));
+    let hz = sqrt(d.x * d.x + d.y * d.y);
+    if (hz < 1e-9) {
+        return d;
+    }
+    let s = sin(alt - r);
+    let c = cos(alt - r);
+    return vec3<f32>(d.x / hz * c, d.y / hz * c, s);
+}
+
+// moon.rs `MoonShader::sky_xy`: offsets east and north in disk radii.
+fn moon_sky_xy(d0: vec3<f32>) -> vec2<f32> {
+    var d = d0;
+    if (moon.north.w != 0.0) {
+        d = moon_unrefract(d0);
+    }
+    return vec2<f32>(dot(d, moon.east.xyz), dot(d, moon.north.xyz)) / moon.east.w;
+}
+
+// moon.rs `MoonShader::radiance`: linear sRGB (cd/m²) at sky-frame surface
+// point p whose line of sight has ENU z component z.
+fn moon_radiance(p: vec3<f32>, z: f32) -> vec3<f32> {
+    let ax = moon.axis_x.xyz;
+    let ay = moon.axis_y.xyz;
+    let az = moon.axis_z.xyz;
+    let sx = dot(p, ax);
+    let sy = dot(p, ay);
+    let sz = dot(p, az);
+    let cl = sqrt(sx * sx + sy * sy);
+    let lat = fast_atan2(sz, cl);
+    let lon = fast_atan2(sy, sx);
+    let alb = moon_albedo(lon, lat);
+    let fade = min(p.z * 5.0, 1.0);
+    var n = p;
+    if (cl > 1e-4 && fade > 0.0) {
+        let t = moon_normal(lon, lat) * fade;
+        let east = cross(az, p) / cl;
+        let north = (az - p * sz) / cl;
+        let up = sqrt(max(1.0 - t.x * t.x - t.y * t.y, 0.0));
+        n = east * t.x + north * t.y + p * up;
+    }
+    let mu = max(n.z, 0.0);
+    let s = moon.sun.xyz;
+    var mu0 = 0.0;
+    if (dot(p, s) > 0.0) {
+        mu0 = dot(n, s);
+    }
+    var ls = 0.0;
+    if (mu0 > 0.0) {
+        ls = mu0 / max(mu0 + mu, 1e-6);
+    }
+    let direct = moon.sun.w * ls * alb;
+    var sun = moon.sun_rgb.xyz;
+    let ne = moon.dims.y;
+    if (ne > 0u) {
+        let de = moon.eclipse.x + moon.eclipse.z * dot(p, moon.geo_e.xyz);
+        let dn = moon.eclipse.y + moon.eclipse.z * dot(p, moon.geo_n.xyz);
+        let d = sqrt(de * de + dn * dn);
+        let last = f32(ne - 1u);
+        let x = min(d / moon.eclipse.w * last, last);
+        let i0 = u32(floor(x));
+        let i1 = min(i0 + 1u, ne - 1u);
+        let f = x - f32(i0);
+        sun = sun * (moon.tables[MOON_ECL + i0].xyz * (1.0 - f) + moon.tables[MOON_ECL + i1].xyz * f);
+    }
+    let nz = moon.dims.x;
+    let zx = clamp((z - moon.sun_rgb.w) / moon.earth_rgb.w, 0.0, f32(nz - 1u));
+    let j0 = u32(floor(zx));
+    let j1 = min(j0 + 1u, nz - 1u);
+    let fz = zx - f32(j0);
+    let t = moon.tables[MOON_EXT + j0].xyz * (1.0 - fz) + moon.tables[MOON_EXT + j1].xyz * fz;
+    return (sun * direct + moon.earth_rgb.xyz * alb) * t;
+}
+
+// Radiance (xyz) and coverage (w) of the disk's part of the pixel whose
+// centre direction is d (moon.rs `MoonShader::shade`: analytic limb).
+fn moon_shade(d: vec3<f32>) -> vec4<f32> {
+    let xy = moon_sky_xy(d);
+    let r = sqrt(xy.x * xy.x + xy.y * xy.y);
+    let cov = clamp((1.0 - r) * moon.centre.w / moon.axis_x.w + 0.5, 0.0, 1.0);
+    if (cov <= 0.0 || dot(d, moon.centre.xyz) <= 0.0) {
+        return vec4<f32>(0.0);
+    }
+    var p: vec3<f32>;
+    if (r >= 1.0) {
+        p = vec3<f32>(xy.x / r, xy.y / r, 0.0);
+    } else {
+        p = vec3<f32>(xy.x, xy.y, sqrt(1.0 - r * r));
+    }
+    return vec4<f32>(moon_radiance(p, d.z), cov);
+}
+
+// moon_pass.rs `supersample`: n × n sub-samples of pixel (px, py); those
+// below the horizon are hidden by the ground.
+fn moon_supersample(px: u32, py: u32, n: u32) -> vec4<f32> {
+    var acc = vec3<f32>(0.0);
+    var hits = 0u;
+    let inv = 1.0 / f32(n);
+    for (var j = 0u; j < n; j = j + 1u) {
+        for (var i = 0u; i < n; i = i + 1u) {
+            let s4 = pixel_dir(f32(px) + (f32(i) + 0.5) * inv, f32(py) + (f32(j) + 0.5) * inv);
+            if (s4.w == 0.0) {
+                continue;
+            }
+            let sd = s4.xyz;
+            if (sd.z < 0.0) {
+                continue;
+            }
+            // moon.rs `covers_exact`, then `surface_point`.
+            let xy = moon_sky_xy(sd);
+            let r2 = xy.x * xy.x + xy.y * xy.y;
+            if (dot(sd, moon.centre.xyz) <= 0.0 || r2 >= 1.0) {
+                continue;
+            }
+            acc = acc + moon_radiance(vec3<f32>(xy.x, xy.y, sqrt(1.0 - r2)), sd.z);
+            hits = hits + 1u;
+        }
+    }
+    if (hits == 0u) {
+        return vec4<f32>(0.0);
+    }
+    return vec4<f32>(acc / f32(hits), f32(hits) / f32(n * n));
+}
+
+// Moon pass (moon_pass.rs `render`): the opaque disk replaces what the
+// earlier passes (Milky Way, stars, planets) drew, by its coverage.
+// Dispatched over the disk's rectangle ∩ this band.
+@compute @workgroup_size(8, 8, 1)
+fn moon_disk(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let y0 = max(moon.rect.y, frame.band.x);
+    let px = gid.x + moon.rect.x;
+    let py = gid.y + y0;
+    if (px >= moon.rect.z || py >= min(moon.rect.w, frame.band.x + frame.band.y)) {
+        return;
+    }
+    let d4 = pixel_dir(f32(px) + 0.5, f32(py) + 0.5);
+    let d = d4.xyz;
+    if (d4.w == 0.0 || dot(d, moon.centre.xyz) < moon.axis_y.w) {
+        return;
+    }
+    var s: vec4<f32>;
+    let n = moon.dims.z;
+    if (n == 0u) {
+        // The ground hides the Moon below the horizon.
+        if (d.z < 0.0) {
+            return;
+        }
+        s = moon_shade(d);
+    } else {
+        s = moon_supersample(px, py, n);
+    }
+    if (s.w <= 0.0) {
+        return;
+    }
+    let i = (py - frame.band.x) * frame.size.x + px;
+    let a = accum[i];
+    accum[i] = vec4<f32>(a.xyz * (1.0 - s.w) + s.xyz * s.w, a.w);
+}
+
+// Baumbach's inner corona relative to the disk's mean radiance at r solar
+// radii (sun.rs `corona_relative`).
+fn corona_relative(r: f32) -> f32 {
+    if (r < 1.0) {
+        return 0.0;
+    }
+    let r2 = r * r;
+    let r7 = r2 * r2 * r2 * r;
+    let r17 = r7 * r7 * r2 * r;
+    return 1e-6 * (0.0532 * pow(r, -2.5) + 1.425 / r7 + 2.565 / r17);
+}
+
+// The inner corona of an eclipsed Sun (moon_pass.rs `render_corona`), part
+// of the Sun pass: the profile less its value at 6 R☉, times the disk's mean
+// radiance and the transmittance (tabulated over the line of sight's
+// zenith cosine), hidden by the Moon's anti-aliased disk.
+@compute @workgroup_size(8, 8, 1)
+fn corona(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let y0 = max(moon.corona_rect.y, frame.band.x);
+    let px = gid.x + moon.corona_rect.x;
+    let py = gid.y + y0;
+    if (px >= moon.corona_rect.z || py >= min(moon.corona_rect.w, frame.band.x + frame.band.y)) {
+        return;
+    }
+    let d4 = pixel_dir(f32(px) + 0.5, f32(py) + 0.5);
+    let d = d4.xyz;
+    let sun = frame.sun.xyz;
+    if (d4.w == 0.0 || d.z < 0.0 || dot(d, sun) < moon.corona.x) {
+        return;
+    }
+    let r = atan2(length(cross(d, sun)), dot(d, sun)) / moon.corona.y;
+    let rel = corona_relative(r) - moon.corona_z.w;
+    if (rel <= 0.0) {
+        return;
+    }
+    let mc = frame.eclipse.xyz;
+    let gm = atan2(length(cross(d, mc)), dot(d, mc));
+    let visible = 1.0 - clamp((moon.corona.z - gm) / moon.corona.w + 0.5, 0.0, 1.0);
+    if (visible <= 0.0) {
+        return;
+    }
+    let nc = u32(moon.corona_z.z);
+    let x = clamp((d.z - moon.corona_z.x) / moon.corona_z.y, 0.0, f32(nc - 1u));
+    let k = min(u32(x), nc - 2u);
+    let t = mix(moon.tables[MOON_COR + k].xyz, moon.tables[MOON_COR + k + 1u].xyz, x - f32(k));
+    let i = (py - frame.band.x) * frame.size.x + px;
+    accum[i] = accum[i] + vec4<f32>(t * (rel * visible), 0.0);
+}
