@@ -222,6 +222,98 @@ pub struct WgpuRenderer {
     /// The lunar albedo and normal maps (uploaded on first use) and
     /// `MoonUniforms.maps`.
     moon_maps: Option<(wgpu::Buffer, [u32; 4])>,
+    /// The per-frame buffers (tables, uniforms, accumulation, read-back),
+    /// kept across frames.
+    pool: BufferPool,
+}
+
+/// Buffers kept across frames, one per slot name: a frame rewrites a
+/// slot with `Queue::write_buffer` (ordered after every earlier
+/// submission's reads) and a new buffer is made only when the frame needs a
+/// larger one or another usage, so a real-time loop allocates nothing per
+/// frame but its target texture.
+#[derive(Default)]
+struct BufferPool(std::sync::Mutex<std::collections::HashMap<&'static str, wgpu::Buffer>>);
+
+impl BufferPool {
+    /// The slot's buffer, at least `size` bytes (and 16), with `usage` and
+    /// `COPY_DST`. A grown buffer gets the next power of two within the
+    /// adapter's buffer limit, so a slightly larger next frame reuses it.
+    fn get(
+        &self,
+        dev: &wgpu::Device,
+        slot: &'static str,
+        size: u64,
+        usage: wgpu::BufferUsages,
+    ) -> wgpu::Buffer {
+        let usage = usage | wgpu::BufferUsages::COPY_DST;
+        let size = size.max(16).next_multiple_of(wgpu::COPY_BUFFER_ALIGNMENT);
+        let mut slots = self.0.lock().unwrap_or_else(|e| e.into_inner());
+        if let Some(b) = slots.get(slot) {
+            if b.size() >= size && b.usage() == usage {
+                return b.clone();
+            }
+        }
+        let grown = size
+            .next_power_of_two()
+            .min(dev.limits().max_buffer_size)
+            .max(size);
+        let b = dev.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(slot),
+            size: grown,
+            usage,
+            mapped_at_creation: false,
+        });
+        slots.insert(slot, b.clone());
+        b
+    }
+
+    /// The slot's buffer holding `bytes` from offset 0, and the binding of
+    /// exactly those bytes (16 zero bytes when `bytes` is empty).
+    fn upload(
+        &self,
+        dev: &wgpu::Device,
+        queue: &wgpu::Queue,
+        slot: &'static str,
+        bytes: &[u8],
+        usage: wgpu::BufferUsages,
+    ) -> PoolBinding {
+        let buffer = self.get(dev, slot, bytes.len() as u64, usage);
+        let size = if bytes.is_empty() {
+            queue.write_buffer(&buffer, 0, &[0u8; 16]);
+            16
+        } else {
+            queue.write_buffer(&buffer, 0, bytes);
+            bytes.len() as u64
+        };
+        PoolBinding {
+            buffer,
+            offset: 0,
+            size,
+        }
+    }
+
+    /// The number of buffers held.
+    fn len(&self) -> usize {
+        self.0.lock().unwrap_or_else(|e| e.into_inner()).len()
+    }
+}
+
+/// A range of a pooled buffer, as bound by a frame.
+struct PoolBinding {
+    buffer: wgpu::Buffer,
+    offset: u64,
+    size: u64,
+}
+
+impl PoolBinding {
+    fn resource(&self) -> wgpu::BindingResource<'_> {
+        wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.buffer,
+            offset: self.offset,
+            size: std::num::NonZeroU64::new(self.size),
+        })
+    }
 }
 
 /// The Moon pass and the corona (sky.wgsl + moon.wgsl): bind group 0 is
@@ -314,6 +406,7 @@ impl WgpuRenderer {
             sky_view_on_gpu: true,
             mw_map: None,
             moon_maps: None,
+            pool: BufferPool::default(),
         })
     }
 
@@ -624,25 +717,32 @@ impl WgpuRenderer {
                     rgba.push([g[0], g[1], g[2], 0.0]);
                 }
                 sky = Some(
-                    self.device
-                        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                            label: Some("sky view"),
-                            contents: bytemuck::cast_slice(&rgba),
-                            usage: wgpu::BufferUsages::STORAGE,
-                        }),
+                    self.pool
+                        .upload(
+                            &self.device,
+                            &self.queue,
+                            "sky view",
+                            bytemuck::cast_slice(&rgba),
+                            wgpu::BufferUsages::STORAGE,
+                        )
+                        .buffer,
                 );
                 sky_view_ms = ms(tsv);
             }
         }
         let sky = match sky {
             Some(b) => b,
-            None => self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("no sky"),
-                    contents: bytemuck::cast_slice(&[[0.0f32; 4]; 2]),
-                    usage: wgpu::BufferUsages::STORAGE,
-                }),
+            None => {
+                self.pool
+                    .upload(
+                        &self.device,
+                        &self.queue,
+                        "no sky",
+                        bytemuck::cast_slice(&[[0.0f32; 4]; 2]),
+                        wgpu::BufferUsages::STORAGE,
+                    )
+                    .buffer
+            }
         };
         // The drawn radius as SunDisk clamps it.
         let radius = (state.sun.angular_radius * scene.sun_scale).clamp(1e-6, 0.5);
@@ -714,13 +814,13 @@ impl WgpuRenderer {
             let (mu, rows) = moon_uniforms(scene, state, luts, maps);
             let mut bytes = bytemuck::bytes_of(&mu).to_vec();
             bytes.extend_from_slice(bytemuck::cast_slice(&rows));
-            let uniform = self
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("moon"),
-                    contents: &bytes,
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
+            let uniform = self.pool.upload(
+                &self.device,
+                &self.queue,
+                "moon",
+                &bytes,
+                wgpu::BufferUsages::UNIFORM,
+            );
             let maps_buf = &self.moon_maps.as_ref().expect("uploaded").0;
             let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("moon"),
@@ -728,7 +828,7 @@ impl WgpuRenderer {
                 entries: &[
                     wgpu::BindGroupEntry {
                         binding: 0,
-                        resource: uniform.as_entire_binding(),
+                        resource: uniform.resource(),
                     },
                     wgpu::BindGroupEntry {
                         binding: 1,
@@ -793,36 +893,26 @@ impl WgpuRenderer {
         }
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;
-        let points_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("point sources"),
-            contents: bytemuck::cast_slice(&points),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let tiles_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("point tiles"),
-            contents: bytemuck::cast_slice(&tile_words),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let night_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("night"),
-            contents: bytemuck::bytes_of(&night_u),
-            usage: wgpu::BufferUsages::UNIFORM,
-        });
-        let ext_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("extinction"),
-            contents: bytemuck::cast_slice(&ext_table),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
-        let no_map;
+        let pool = &self.pool;
+        let upload = |slot, bytes: &[u8], usage| pool.upload(dev, &self.queue, slot, bytes, usage);
+        let storage = wgpu::BufferUsages::STORAGE;
+        let points_buf = upload("point sources", bytemuck::cast_slice(&points), storage);
+        let tiles_buf = upload("point tiles", bytemuck::cast_slice(&tile_words), storage);
+        let night_buf = upload(
+            "night",
+            bytemuck::bytes_of(&night_u),
+            wgpu::BufferUsages::UNIFORM,
+        );
+        let ext_buf = upload("extinction", bytemuck::cast_slice(&ext_table), storage);
         let map_buf = match (&self.mw_map, milkyway) {
-            (Some((b, _, _)), true) => b,
+            (Some((b, _, _)), true) => b.clone(),
             _ => {
-                no_map = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("no Milky Way map"),
-                    contents: bytemuck::cast_slice(&[[0.0f32; 4]; 4]),
-                    usage: wgpu::BufferUsages::STORAGE,
-                });
-                &no_map
+                upload(
+                    "no Milky Way map",
+                    bytemuck::cast_slice(&[[0.0f32; 4]; 4]),
+                    storage,
+                )
+                .buffer
             }
         };
         // One uniform per band: its rows and its part of the Sun's rectangle.
@@ -837,17 +927,19 @@ impl WgpuRenderer {
                 }
             })
             .collect();
-        let accum = dev.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("accum"),
-            size: row_bytes * band_rows as u64,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let sun_buf = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-            label: Some("sun table"),
-            contents: bytemuck::cast_slice(&sun_table),
-            usage: wgpu::BufferUsages::STORAGE,
-        });
+        let accum = pool.get(dev, "accum", row_bytes * band_rows as u64, storage);
+        let accum_size = row_bytes * band_rows as u64;
+        let sun_buf = upload("sun table", bytemuck::cast_slice(&sun_table), storage);
+        // The bands' uniforms in one buffer, each at an aligned offset.
+        let stride = (std::mem::size_of::<FrameUniforms>() as u64)
+            .next_multiple_of(limits.min_uniform_buffer_offset_alignment as u64);
+        let mut frame_bytes = vec![0u8; stride as usize * band_frames.len()];
+        for (k, bf) in band_frames.iter().enumerate() {
+            let at = k * stride as usize;
+            frame_bytes[at..at + std::mem::size_of::<FrameUniforms>()]
+                .copy_from_slice(bytemuck::bytes_of(bf));
+        }
+        let frames_buf = upload("frame", &frame_bytes, wgpu::BufferUsages::UNIFORM);
         let texture = dev.create_texture(&wgpu::TextureDescriptor {
             label: Some(if cube {
                 "himmel cube map"
@@ -872,25 +964,29 @@ impl WgpuRenderer {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
             ..Default::default()
         });
-        let binds: Vec<wgpu::BindGroup> = band_frames
-            .iter()
-            .map(|bf| {
-                let uniform = dev.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("frame"),
-                    contents: bytemuck::bytes_of(bf),
-                    usage: wgpu::BufferUsages::UNIFORM,
-                });
+        let binds: Vec<wgpu::BindGroup> = (0..band_frames.len() as u64)
+            .map(|k| {
+                let uniform = PoolBinding {
+                    buffer: frames_buf.buffer.clone(),
+                    offset: k * stride,
+                    size: std::mem::size_of::<FrameUniforms>() as u64,
+                };
+                let accum = PoolBinding {
+                    buffer: accum.clone(),
+                    offset: 0,
+                    size: accum_size,
+                };
                 dev.create_bind_group(&wgpu::BindGroupDescriptor {
                     label: Some("sky"),
                     layout: &self.pipelines.layout,
                     entries: &[
                         wgpu::BindGroupEntry {
                             binding: 0,
-                            resource: uniform.as_entire_binding(),
+                            resource: uniform.resource(),
                         },
                         wgpu::BindGroupEntry {
                             binding: 1,
-                            resource: accum.as_entire_binding(),
+                            resource: accum.resource(),
                         },
                         wgpu::BindGroupEntry {
                             binding: 2,
@@ -898,7 +994,7 @@ impl WgpuRenderer {
                         },
                         wgpu::BindGroupEntry {
                             binding: 3,
-                            resource: sun_buf.as_entire_binding(),
+                            resource: sun_buf.resource(),
                         },
                         wgpu::BindGroupEntry {
                             binding: 4,
@@ -906,7 +1002,7 @@ impl WgpuRenderer {
                         },
                         wgpu::BindGroupEntry {
                             binding: 5,
-                            resource: night_buf.as_entire_binding(),
+                            resource: night_buf.resource(),
                         },
                         wgpu::BindGroupEntry {
                             binding: 6,
@@ -914,15 +1010,15 @@ impl WgpuRenderer {
                         },
                         wgpu::BindGroupEntry {
                             binding: 7,
-                            resource: ext_buf.as_entire_binding(),
+                            resource: ext_buf.resource(),
                         },
                         wgpu::BindGroupEntry {
                             binding: 8,
-                            resource: points_buf.as_entire_binding(),
+                            resource: points_buf.resource(),
                         },
                         wgpu::BindGroupEntry {
                             binding: 9,
-                            resource: tiles_buf.as_entire_binding(),
+                            resource: tiles_buf.resource(),
                         },
                     ],
                 })
@@ -983,7 +1079,7 @@ impl WgpuRenderer {
         let mut enc = dev.create_command_encoder(&Default::default());
         let mut cpu_ms = vec![0.0; n_runs];
         for (b, &(row0, rows)) in bands.iter().enumerate() {
-            enc.clear_buffer(&accum, 0, None);
+            enc.clear_buffer(&accum, 0, Some(accum_size));
             for (k, (name, pipeline, shape, _)) in runs.iter().enumerate() {
                 // The rows of a rectangle [x0, y0, x1, y1] in this band.
                 let in_band = |r: [u32; 4]| {
@@ -1081,6 +1177,13 @@ impl WgpuRenderer {
         })
     }
 
+    /// The number of per-frame buffers kept across frames (tables,
+    /// uniforms, the accumulation band, read-back): constant for a repeated
+    /// scene, so a real-time loop allocates only each frame's target texture.
+    pub fn pooled_buffers(&self) -> usize {
+        self.pool.len()
+    }
+
     /// Uploads the Milky Way map (once); returns its width and height (a
     /// 2 × 2 black map when the embedded one does not decode, as the CPU
     /// then draws no map).
@@ -1136,9 +1239,9 @@ impl WgpuRenderer {
             .map_err(|e| RenderError::Other(format!("wgpu: {e}")))
     }
 
-    /// Maps `buffer` (MAP_READ) and returns its bytes.
-    fn map_read(&self, buffer: &wgpu::Buffer) -> Result<Vec<u8>, RenderError> {
-        let slice = buffer.slice(..);
+    /// Maps the first `size` bytes of `buffer` (MAP_READ) and returns them.
+    fn map_read(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, RenderError> {
+        let slice = buffer.slice(..size);
         let (tx, rx) = std::sync::mpsc::channel();
         slice.map_async(wgpu::MapMode::Read, move |r| {
             let _ = tx.send(r);
@@ -1157,23 +1260,23 @@ impl WgpuRenderer {
 
     fn read_timestamps(&self, q: &wgpu::QuerySet, n: usize) -> Result<Vec<f64>, RenderError> {
         let size = (2 * n * 8) as u64;
-        let resolve = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps"),
+        let resolve = self.pool.get(
+            &self.device,
+            "timestamps",
             size,
-            usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let read = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("timestamps read"),
+            wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        );
+        let read = self.pool.get(
+            &self.device,
+            "timestamps read",
             size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+            wgpu::BufferUsages::MAP_READ,
+        );
         let mut enc = self.device.create_command_encoder(&Default::default());
         enc.resolve_query_set(q, 0..2 * n as u32, &resolve, 0);
         enc.copy_buffer_to_buffer(&resolve, 0, &read, 0, size);
         self.queue.submit([enc.finish()]);
-        let bytes = self.map_read(&read)?;
+        let bytes = self.map_read(&read, size)?;
         let ticks: &[u64] = bytemuck::cast_slice(&bytes);
         let period = self.queue.get_timestamp_period() as f64;
         Ok((0..n)
@@ -1189,12 +1292,13 @@ impl WgpuRenderer {
         let row = tw as u64 * 16;
         let padded = row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64)
             * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
-        let read = self.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame read"),
-            size: padded * th as u64 * layers as u64,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let read_size = padded * th as u64 * layers as u64;
+        let read = self.pool.get(
+            &self.device,
+            "frame read",
+            read_size,
+            wgpu::BufferUsages::MAP_READ,
+        );
         let mut enc = self.device.create_command_encoder(&Default::default());
         enc.copy_texture_to_buffer(
             frame.texture.as_image_copy(),
@@ -1209,7 +1313,7 @@ impl WgpuRenderer {
             size,
         );
         self.queue.submit([enc.finish()]);
-        let bytes = self.map_read(&read)?;
+        let bytes = self.map_read(&read, read_size)?;
         let texels: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
         let (w, h) = (frame.width as usize, frame.height as usize);
         let stride = padded as usize / 16;
