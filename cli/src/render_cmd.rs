@@ -233,7 +233,10 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     }
     let scene = build_scene(a)?;
     let state = SkyState::at(&scene).map_err(scene_error)?;
+    let t_init = Clock::now();
     let (mut renderer, mut timing) = make_renderer(backend)?;
+    let init_ms = t_init.elapsed().as_secs_f64() * 1e3;
+    let t_render = Clock::now();
     let out = match renderer.render(&scene, &state) {
         Ok(out) => out,
         // The GPU cannot hold this frame (its buffer or texture limits).
@@ -252,6 +255,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         }
         Err(e) => return Err(CliError::other(e.to_string())),
     };
+    let render_ms = t_render.elapsed().as_secs_f64() * 1e3;
     let t_write = Clock::now();
     let ev = match format {
         ImageFormat::Exr => {
@@ -276,6 +280,8 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             "height": out.image.height,
             "passes": out.passes,
             "total_ms": t_total.elapsed().as_secs_f64() * 1e3,
+            "init_ms": init_ms,
+            "render_ms": render_ms,
             "precompute_ms": out.precompute_ms,
             "lut_source": out.lut_source,
             "geometry_ms": out.geometry_ms,

@@ -247,6 +247,12 @@ fn wgpu_backend_renders_with_per_pass_times() {
     assert!(passes
         .iter()
         .any(|p| p["name"] == "atmosphere" && p["ran"] == true));
+    // The process's time splits into the renderer's creation (device and
+    // shaders), the frame (with read-back) and the image write.
+    let part = |k: &str| s[k].as_f64().unwrap_or_else(|| panic!("{k}: {s}"));
+    let (init, render, write) = (part("init_ms"), part("render_ms"), part("write_ms"));
+    assert!(init > 0.0 && render > 0.0, "{s}");
+    assert!(init + render + write <= part("total_ms"), "{s}");
     assert!(std::fs::metadata(&png).unwrap().len() > 100);
     for p in [png, stats] {
         let _ = std::fs::remove_file(p);
