@@ -19,8 +19,12 @@ use wgpu::util::DeviceExt;
 
 use crate::{band_groups, storage_entry, uniform_entry};
 
-/// The WGSL source of the LUT passes.
-pub const LUTS_WGSL: &str = include_str!("shaders/luts.wgsl");
+/// The WGSL source of the LUT passes: `luts.wgsl` followed by the medium
+/// functions it shares with the sky-view passes (`medium.wgsl`).
+pub const LUTS_WGSL: &str = concat!(
+    include_str!("shaders/luts.wgsl"),
+    include_str!("shaders/medium.wgsl")
+);
 
 /// Where [`crate::WgpuRenderer`] takes the parameter-dependent LUTs from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

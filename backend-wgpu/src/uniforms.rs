@@ -210,8 +210,12 @@ pub const MOON_WGSL: &str = concat!(
     include_str!("shaders/moon.wgsl")
 );
 
-/// The WGSL source of the sky-view LUT passes.
-pub const SKYVIEW_WGSL: &str = include_str!("shaders/skyview.wgsl");
+/// The WGSL source of the sky-view LUT passes: `skyview.wgsl` followed by
+/// the medium functions it shares with the LUT passes (`medium.wgsl`).
+pub const SKYVIEW_WGSL: &str = concat!(
+    include_str!("shaders/skyview.wgsl"),
+    include_str!("shaders/medium.wgsl")
+);
 
 #[cfg(test)]
 mod tests {

@@ -8,7 +8,8 @@
 // Spectra have 10 bands, held as three vec4 "band groups" (bands 4k..4k+3;
 // the last two lanes of group 2 are zero); LUT texels store their three
 // groups consecutively, the layout skyview.wgsl reads. The Rust mirror of
-// `LutParams` is `luts::LutUniforms`.
+// `LutParams` is `luts::LutUniforms`. medium.wgsl is appended (its functions
+// read the uniform as `atmo`).
 
 struct LutParams {
     rayleigh: array<vec4<f32>, 3>,
@@ -30,14 +31,13 @@ struct LutParams {
     dims2: vec4<u32>,
 }
 
-@group(0) @binding(0) var<uniform> lp: LutParams;
+@group(0) @binding(0) var<uniform> atmo: LutParams;
 @group(0) @binding(1) var<storage, read_write> trans: array<vec4<f32>>;
 @group(0) @binding(2) var<storage, read_write> trans_s: array<vec4<f32>>;
 @group(0) @binding(3) var<storage, read_write> multi: array<vec4<f32>>;
 // lut.rs `sphere_directions` (xyz; w unused), computed on the CPU
 @group(0) @binding(4) var<storage, read> dirs: array<vec4<f32>>;
 
-const PI: f32 = 3.14159265358979;
 // Zero for the two padding lanes of band group 2.
 const LANES: array<vec4<f32>, 3> = array<vec4<f32>, 3>(
     vec4<f32>(1.0),
@@ -45,73 +45,14 @@ const LANES: array<vec4<f32>, 3> = array<vec4<f32>, 3>(
     vec4<f32>(1.0, 1.0, 0.0, 0.0),
 );
 
-fn safe_sqrt(x: f32) -> f32 {
-    return sqrt(max(x, 0.0));
-}
-
-fn tex_from_unit(x: f32, n: u32) -> f32 {
-    let nf = f32(n);
-    return 0.5 / nf + x * (1.0 - 1.0 / nf);
-}
-
-fn unit_from_tex(u: f32, n: u32) -> f32 {
-    let nf = f32(n);
-    return (u - 0.5 / nf) / (1.0 - 1.0 / nf);
-}
-
-fn hermite(e0: f32, e1: f32, x: f32) -> f32 {
-    let t = clamp((x - e0) / (e1 - e0), 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
-}
-
-fn distance_to_top(r: f32, mu: f32) -> f32 {
-    let top = lp.s0.y;
-    return max(-r * mu + safe_sqrt(r * r * (mu * mu - 1.0) + top * top), 0.0);
-}
-
-fn distance_to_bottom(r: f32, mu: f32) -> f32 {
-    let b = lp.s0.x;
-    return max(-r * mu - safe_sqrt(r * r * (mu * mu - 1.0) + b * b), 0.0);
-}
-
-fn hits_ground(r: f32, mu: f32) -> bool {
-    let b = lp.s0.x;
-    return mu < 0.0 && r * r * (mu * mu - 1.0) + b * b >= 0.0;
-}
-
-// medium.rs `Medium::sun_visibility`.
-fn sun_visibility(r: f32, mu_s: f32) -> f32 {
-    let sin_h = min(lp.s0.x / r, 1.0);
-    let cos_h = -safe_sqrt(1.0 - sin_h * sin_h);
-    let a = lp.s2.x * sin_h;
-    return hermite(-a, a, mu_s - cos_h);
-}
-
 // medium.rs `Medium::densities`: Rayleigh, aerosol, ozone.
 fn densities(r: f32) -> vec3<f32> {
-    let h = max(r - lp.s0.x, 0.0);
+    let h = max(r - atmo.s0.x, 0.0);
     return vec3<f32>(
-        exp(-h * lp.s0.z),
-        exp(-h * lp.s0.w),
-        max(1.0 - abs(h - lp.s1.x) * lp.s1.y, 0.0),
+        exp(-h * atmo.s0.z),
+        exp(-h * atmo.s0.w),
+        max(1.0 - abs(h - atmo.s1.x) * atmo.s1.y, 0.0),
     );
-}
-
-fn rayleigh_phase(c: f32) -> f32 {
-    return 3.0 / (16.0 * PI) * (1.0 + c * c);
-}
-
-fn cornette_shanks_phase(g: f32, c: f32) -> f32 {
-    let k = 3.0 / (8.0 * PI) * (1.0 - g * g) / (2.0 + g * g);
-    let d = max(1.0 + g * g - 2.0 * g * c, 1e-6);
-    return k * (1.0 + c * c) / (d * sqrt(d));
-}
-
-// ∫₀^dt e^{−σt} dt per band (lut.rs `integrate_segment`).
-fn integrate_segment(ext: vec4<f32>, seg: vec4<f32>, dt: f32) -> vec4<f32> {
-    let big = (vec4<f32>(1.0) - seg) / max(ext, vec4<f32>(1e-30));
-    let small = dt * (vec4<f32>(1.0) - 0.5 * ext * dt);
-    return select(small, big, ext * dt > vec4<f32>(1e-4));
 }
 
 // One transmittance texel (lut.rs `r_mu_from_transmittance_uv`,
@@ -119,8 +60,8 @@ fn integrate_segment(ext: vec4<f32>, seg: vec4<f32>, dt: f32) -> vec4<f32> {
 // share the column densities.
 @compute @workgroup_size(8, 8, 1)
 fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let w = lp.dims.x;
-    let h = lp.dims.y;
+    let w = atmo.dims.x;
+    let h = atmo.dims.y;
     if (gid.x >= w || gid.y >= h) {
         return;
     }
@@ -128,8 +69,8 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
     let v = (f32(gid.y) + 0.5) / f32(h);
     let x_mu = unit_from_tex(u, w);
     let x_r = unit_from_tex(v, h);
-    let b = lp.s0.x;
-    let top = lp.s0.y;
+    let b = atmo.s0.x;
+    let top = atmo.s0.y;
     let hh = safe_sqrt(top * top - b * b);
     let rho = hh * x_r;
     let r = safe_sqrt(rho * rho + b * b);
@@ -141,7 +82,7 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
         mu = clamp((hh * hh - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
     }
     let len = distance_to_top(r, mu);
-    let steps = lp.dims.z;
+    let steps = atmo.dims.z;
     let dt = len / f32(steps);
     var col = vec3<f32>(0.0);
     for (var i = 0u; i < steps; i = i + 1u) {
@@ -151,9 +92,9 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let idx = (gid.y * w + gid.x) * 3u;
     for (var k = 0u; k < 3u; k = k + 1u) {
-        let od = lp.rayleigh[k] * col.x + lp.mie_extinction[k] * col.y + lp.ozone[k] * col.z;
+        let od = atmo.rayleigh[k] * col.x + atmo.mie_extinction[k] * col.y + atmo.ozone[k] * col.z;
         trans[idx + k] = exp(-od) * LANES[k];
-        trans_s[idx + k] = exp(-(od - lp.forward[k] * col.y)) * LANES[k];
+        trans_s[idx + k] = exp(-(od - atmo.forward[k] * col.y)) * LANES[k];
     }
 }
 
@@ -161,10 +102,10 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
 // (the texel coordinates computed once), with the Earth's-shadow
 // visibility `vis` (> 0) already computed.
 fn sun_transmittance_s(r: f32, mu_s: f32, vis: f32) -> array<vec4<f32>, 3> {
-    let w = lp.dims.x;
-    let h = lp.dims.y;
-    let b = lp.s0.x;
-    let top = lp.s0.y;
+    let w = atmo.dims.x;
+    let h = atmo.dims.y;
+    let b = atmo.s0.x;
+    let top = atmo.s0.y;
     let hh = safe_sqrt(top * top - b * b);
     let rho = safe_sqrt(r * r - b * b);
     let d = distance_to_top(r, mu_s);
@@ -215,11 +156,11 @@ fn multiscatter(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
-    let n = lp.dims.w;
-    let nd = lp.dims2.x;
-    let steps = lp.dims2.y;
-    let b = lp.s0.x;
-    let top = lp.s0.y;
+    let n = atmo.dims.w;
+    let nd = atmo.dims2.x;
+    let steps = atmo.dims2.y;
+    let b = atmo.s0.x;
+    let top = atmo.s0.y;
     let v = (f32(wid.y) + 0.5) / f32(n);
     var r = b + clamp(unit_from_tex(v, n), 0.0, 1.0) * (top - b);
     r = clamp(r, b + 1e-3, top - 1e-3);
@@ -227,8 +168,8 @@ fn multiscatter(
     let mu_s = mu_s_from_unit(unit_from_tex(u, n));
     let sun = vec3<f32>(safe_sqrt(1.0 - mu_s * mu_s), 0.0, mu_s);
     let pos = vec3<f32>(0.0, 0.0, r);
-    let g = lp.s1.z;
-    let cone = lp.s2.y;
+    let g = atmo.s1.z;
+    let cone = atmo.s2.y;
     var l = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     var f = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     for (var di = lane; di < nd; di = di + WG) {
@@ -237,7 +178,7 @@ fn multiscatter(
         let cos_theta = dot(d, sun);
         let pr = rayleigh_phase(cos_theta);
         var pm: f32;
-        if (lp.s2.z > 0.0 && cos_theta > cone) {
+        if (atmo.s2.z > 0.0 && cos_theta > cone) {
             pm = cornette_shanks_phase(g, cone);
         } else {
             pm = cornette_shanks_phase(g, cos_theta);
@@ -265,12 +206,12 @@ fn multiscatter(
                 tsun = sun_transmittance_s(rp, mus, vis);
             }
             for (var k = 0u; k < 3u; k = k + 1u) {
-                let sr = lp.rayleigh[k] * dens.x;
-                let sm = lp.mie_scattering[k] * dens.y;
-                let fwd = lp.forward[k];
+                let sr = atmo.rayleigh[k] * dens.x;
+                let sm = atmo.mie_scattering[k] * dens.y;
+                let fwd = atmo.forward[k];
                 let ss = sr + sm - fwd * dens.y;
-                let ext = lp.rayleigh[k] * dens.x + lp.mie_extinction[k] * dens.y
-                    + lp.ozone[k] * dens.z - fwd * dens.y;
+                let ext = atmo.rayleigh[k] * dens.x + atmo.mie_extinction[k] * dens.y
+                    + atmo.ozone[k] * dens.z - fwd * dens.y;
                 let seg = exp(-ext * dt);
                 let integ = integrate_segment(ext, seg, dt);
                 ld[k] = ld[k] + tv[k] * (sr * pr + sm * pm) * tsun[k] * integ;
@@ -286,7 +227,7 @@ fn multiscatter(
             if (vis > 0.0) {
                 let tsun = sun_transmittance_s(rg, mug, vis);
                 for (var k = 0u; k < 3u; k = k + 1u) {
-                    ld[k] = ld[k] + tv[k] * tsun[k] * (max(mug, 0.0) * lp.s1.w / PI);
+                    ld[k] = ld[k] + tv[k] * tsun[k] * (max(mug, 0.0) * atmo.s1.w / PI);
                 }
             }
         }
@@ -304,7 +245,7 @@ fn multiscatter(
         return;
     }
     let inv = 1.0 / f32(nd);
-    let orders = lp.dims2.z;
+    let orders = atmo.dims2.z;
     let idx = (wid.y * n + wid.x) * 3u;
     for (var k = 0u; k < 3u; k = k + 1u) {
         var l2 = vec4<f32>(0.0);

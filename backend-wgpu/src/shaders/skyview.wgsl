@@ -40,49 +40,7 @@ struct Atmo {
 // w × h sky-view texels, then the ground luminance
 @group(0) @binding(4) var<storage, read_write> sky: array<vec4<f32>>;
 
-const PI: f32 = 3.14159265358979;
 const HALF_PI: f32 = 1.57079632679490;
-
-fn safe_sqrt(x: f32) -> f32 {
-    return sqrt(max(x, 0.0));
-}
-
-fn tex_from_unit(x: f32, n: u32) -> f32 {
-    let nf = f32(n);
-    return 0.5 / nf + x * (1.0 - 1.0 / nf);
-}
-
-fn unit_from_tex(u: f32, n: u32) -> f32 {
-    let nf = f32(n);
-    return (u - 0.5 / nf) / (1.0 - 1.0 / nf);
-}
-
-fn hermite(e0: f32, e1: f32, x: f32) -> f32 {
-    let t = clamp((x - e0) / (e1 - e0), 0.0, 1.0);
-    return t * t * (3.0 - 2.0 * t);
-}
-
-fn distance_to_top(r: f32, mu: f32) -> f32 {
-    let top = atmo.s0.y;
-    return max(-r * mu + safe_sqrt(r * r * (mu * mu - 1.0) + top * top), 0.0);
-}
-
-fn distance_to_bottom(r: f32, mu: f32) -> f32 {
-    let b = atmo.s0.x;
-    return max(-r * mu - safe_sqrt(r * r * (mu * mu - 1.0) + b * b), 0.0);
-}
-
-fn hits_ground(r: f32, mu: f32) -> bool {
-    let b = atmo.s0.x;
-    return mu < 0.0 && r * r * (mu * mu - 1.0) + b * b >= 0.0;
-}
-
-fn sun_visibility(r: f32, mu_s: f32) -> f32 {
-    let sin_h = min(atmo.s0.x / r, 1.0);
-    let cos_h = -safe_sqrt(1.0 - sin_h * sin_h);
-    let a = atmo.s2.x * sin_h;
-    return hermite(-a, a, mu_s - cos_h);
-}
 
 // Bilinear lookup of band group k of a Spectrum LUT (w × h), clamped.
 fn lut_corners(u: f32, v: f32, w: u32, h: u32) -> vec4<f32> {
@@ -160,23 +118,6 @@ fn multiscatter_at(r: f32, mu_s: f32, k: u32) -> vec4<f32> {
     let a = multi[(y0 * n + x0) * 3u + k] * (1.0 - c.z) + multi[(y0 * n + x1) * 3u + k] * c.z;
     let b = multi[(y1 * n + x0) * 3u + k] * (1.0 - c.z) + multi[(y1 * n + x1) * 3u + k] * c.z;
     return a * (1.0 - c.w) + b * c.w;
-}
-
-fn rayleigh_phase(c: f32) -> f32 {
-    return 3.0 / (16.0 * PI) * (1.0 + c * c);
-}
-
-fn cornette_shanks_phase(g: f32, c: f32) -> f32 {
-    let k = 3.0 / (8.0 * PI) * (1.0 - g * g) / (2.0 + g * g);
-    let d = max(1.0 + g * g - 2.0 * g * c, 1e-6);
-    return k * (1.0 + c * c) / (d * sqrt(d));
-}
-
-// ∫₀^dt e^{−σt} dt per band (lut.rs `integrate_segment`).
-fn integrate_segment(ext: vec4<f32>, seg: vec4<f32>, dt: f32) -> vec4<f32> {
-    let big = (vec4<f32>(1.0) - seg) / max(ext, vec4<f32>(1e-30));
-    let small = dt * (vec4<f32>(1.0) - 0.5 * ext * dt);
-    return select(small, big, ext * dt > vec4<f32>(1e-4));
 }
 
 // lut.rs `SkyView::transfer` for band group k.
