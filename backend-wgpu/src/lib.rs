@@ -159,6 +159,51 @@ impl Timing {
     }
 }
 
+/// How the stars' and planets' footprints are drawn. Both evaluate the
+/// same per-pixel footprint (sky.wgsl `point_footprint`) from the same
+/// records ([`point_lists`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointMethod {
+    /// Compute passes: one workgroup per non-empty 8 × 8 tile, each pixel
+    /// sums the footprints listed for its tile (sky.wgsl `stars`/`planets`).
+    Tiles,
+    /// A render pass: one instanced quad per footprint record (vertex +
+    /// fragment shaders, no geometry shader, quads.wgsl), added by the blend
+    /// state into a float target ([`WgpuRenderer::quad_format`]) that a
+    /// compute pass then adds into the frame.
+    Quads,
+}
+
+impl PointMethod {
+    /// The `--stats` name: `tiles` or `quads`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PointMethod::Tiles => "tiles",
+            PointMethod::Quads => "quads",
+        }
+    }
+
+    /// The default for an adapter of this type: tiles on a software
+    /// adapter (CPU, e.g. lavapipe), quads on hardware GPUs (measured in
+    /// `benches/render.rs`, group `night`; see the crate documentation).
+    pub fn default_for(device_type: wgpu::DeviceType) -> Self {
+        match device_type {
+            wgpu::DeviceType::Cpu => PointMethod::Tiles,
+            _ => PointMethod::Quads,
+        }
+    }
+}
+
+/// The point-source quads: the draw (bind group 0: frame, night
+/// constants, records) and the resolve pass (the sky's bind group 0 and the
+/// quad target in group 1).
+struct QuadPipelines {
+    draw_layout: wgpu::BindGroupLayout,
+    target_layout: wgpu::BindGroupLayout,
+    draw: wgpu::RenderPipeline,
+    resolve: wgpu::ComputePipeline,
+}
+
 struct Pipelines {
     layout: wgpu::BindGroupLayout,
     atmosphere: wgpu::ComputePipeline,
@@ -225,6 +270,12 @@ pub struct WgpuRenderer {
     /// The per-frame buffers (tables, uniforms, accumulation, read-back),
     /// kept across frames.
     pool: BufferPool,
+    point_method: PointMethod,
+    quads: QuadPipelines,
+    /// The quad target's format: rgba32float when the adapter blends it.
+    quad_format: wgpu::TextureFormat,
+    /// The quad target (band-sized), kept across frames.
+    quad_target: Option<wgpu::Texture>,
 }
 
 /// Buffers kept across frames, one per slot name: a frame rewrites a
@@ -373,10 +424,22 @@ impl WgpuRenderer {
         .map_err(|e| WgpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let features = if timestamps {
+        let mut features = if timestamps {
             wgpu::Features::TIMESTAMP_QUERY
         } else {
             wgpu::Features::empty()
+        };
+        // Additive blending into rgba32float for the point-source quads.
+        let blend32 = adapter
+            .features()
+            .contains(wgpu::Features::FLOAT32_BLENDABLE);
+        if blend32 {
+            features |= wgpu::Features::FLOAT32_BLENDABLE;
+        }
+        let quad_format = if blend32 {
+            wgpu::TextureFormat::Rgba32Float
+        } else {
+            wgpu::TextureFormat::Rgba16Float
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("himmel"),
@@ -388,7 +451,12 @@ impl WgpuRenderer {
         let pipelines = Self::pipelines(&device);
         let skyview = skyview_pipelines(&device);
         let lut_source = LutSource::default_for(info.device_type);
+        let quads = quad_pipelines(&device, &pipelines.layout, quad_format);
         Ok(WgpuRenderer {
+            point_method: PointMethod::default_for(info.device_type),
+            quads,
+            quad_format,
+            quad_target: None,
             moon: moon_pipelines(&device, &pipelines.layout),
             device,
             queue,
@@ -449,6 +517,25 @@ impl WgpuRenderer {
             store: pipeline("store"),
             layout,
         }
+    }
+
+    /// Chooses how stars and planets are drawn (default:
+    /// [`PointMethod::default_for`] the adapter).
+    pub fn set_point_method(&mut self, method: PointMethod) {
+        self.point_method = method;
+    }
+
+    /// How stars and planets are drawn.
+    pub fn point_method(&self) -> PointMethod {
+        self.point_method
+    }
+
+    /// The format of the point-source quad target: `Rgba32Float` where the
+    /// adapter offers `Features::FLOAT32_BLENDABLE` (requested then),
+    /// otherwise `Rgba16Float` (11-bit significand: each quad pass's sum
+    /// rounded to ≈ 5e-4 relative, radiance above 65504 cd/m² saturating).
+    pub fn quad_format(&self) -> wgpu::TextureFormat {
+        self.quad_format
     }
 
     /// The device (to bind [`GpuFrame::texture`] in your own passes).
@@ -884,6 +971,7 @@ impl WgpuRenderer {
             words: tile_words,
             tiles,
             busy,
+            ranges,
         } = point_lists(&cam, &[&star_plans, &planet_plans]);
         night_u.tiles = tiles;
         night_u.busy = [busy[0].0, busy[1].0, busy[0].1, busy[1].1];
@@ -891,6 +979,38 @@ impl WgpuRenderer {
         if let Some((p, _)) = star_plans.first().or(planet_plans.first()) {
             night_u.psf = [p.r as f32, 0.0, p.inv2s2, 0.0];
         }
+        // Point sources as quads: a float target of the band's size (where
+        // the adapter's texture limit allows the image width).
+        let quads = self.point_method == PointMethod::Quads
+            && w <= limits.max_texture_dimension_2d
+            && (point_pass(Effect::Stars) || point_pass(Effect::Planets));
+        if quads {
+            let fits = self.quad_target.as_ref().is_some_and(|t| {
+                t.width() >= w && t.height() >= band_rows && t.format() == self.quad_format
+            });
+            if !fits {
+                self.quad_target = Some(self.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("point-source quads"),
+                    size: wgpu::Extent3d {
+                        width: w,
+                        height: band_rows,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: self.quad_format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                }));
+            }
+        }
+        let quad_view = self
+            .quad_target
+            .as_ref()
+            .filter(|_| quads)
+            .map(|t| t.create_view(&Default::default()));
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;
         let pool = &self.pool;
@@ -1024,12 +1144,55 @@ impl WgpuRenderer {
                 })
             })
             .collect();
+        // The quads' bind groups: per band the draw's (frame, night
+        // constants, records), and the target for the resolve pass.
+        let quad_binds = quad_view.as_ref().map(|view| {
+            let draws: Vec<wgpu::BindGroup> = (0..band_frames.len() as u64)
+                .map(|k| {
+                    let uniform = PoolBinding {
+                        buffer: frames_buf.buffer.clone(),
+                        offset: k * stride,
+                        size: std::mem::size_of::<FrameUniforms>() as u64,
+                    };
+                    dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("quads"),
+                        layout: &self.quads.draw_layout,
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: uniform.resource(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 5,
+                                resource: night_buf.resource(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 8,
+                                resource: points_buf.resource(),
+                            },
+                        ],
+                    })
+                })
+                .collect();
+            let target = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("quad target"),
+                layout: &self.quads.target_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
+            });
+            (draws, target)
+        });
         // Passes back to front, then `store`, band by band.
         // Dispatch shape: 0 the band, 1 the Sun's rectangle, 2/3 the
         // stars'/planets' non-empty tiles, 4 the Moon's rectangle, 5 the
-        // corona's (part of the Sun pass). Each run adds its time to the
-        // pass statistic it names.
-        let mut runs: Vec<(String, &wgpu::ComputePipeline, u8, Option<usize>)> = Vec::new();
+        // corona's (part of the Sun pass), 6 the band reading the quad
+        // target (group 1). Each run adds its time to the pass statistic it
+        // names; with quads, the stars' and planets' runs are their draw
+        // (a render pass, `None`) and its resolve.
+        let mut runs: Vec<(String, Option<&wgpu::ComputePipeline>, u8, Option<usize>)> =
+            Vec::new();
         let mut stats = Vec::new();
         for planned in &state.passes {
             let culled = culled_reason(planned.effect);
@@ -1044,9 +1207,21 @@ impl WgpuRenderer {
                     _ => (&self.pipelines.sun, 1),
                 };
                 let stat = Some(stats.len());
-                runs.push((planned.effect.name().into(), p, shape, stat));
+                let name = planned.effect.name();
+                if quad_binds.is_some() && matches!(shape, 2 | 3) {
+                    runs.push((name.into(), None, shape, stat));
+                    runs.push((name.into(), Some(&self.quads.resolve), 6, stat));
+                    stats.push(PassStat {
+                        name: name.into(),
+                        ran: run,
+                        ms: None,
+                        reason: planned.reason.clone().or(culled),
+                    });
+                    continue;
+                }
+                runs.push((name.into(), Some(p), shape, stat));
                 if planned.effect == Effect::Sun && corona_runs {
-                    runs.push(("corona".into(), &self.moon.corona, 5, stat));
+                    runs.push(("corona".into(), Some(&self.moon.corona), 5, stat));
                 }
             }
             stats.push(PassStat {
@@ -1065,7 +1240,7 @@ impl WgpuRenderer {
                 reason: state.moon.eclipse_reason.clone(),
             });
         }
-        runs.push(("store".into(), &self.pipelines.store, 0, None));
+        runs.push(("store".into(), Some(&self.pipelines.store), 0, None));
         let n_runs = runs.len();
         let queries = self.timestamps.then(|| {
             dev.create_query_set(&wgpu::QuerySetDescriptor {
@@ -1115,7 +1290,38 @@ impl WgpuRenderer {
                 };
                 let q = 2 * (b * n_runs + k) as u32;
                 let t0 = Clock::now();
+                if let (None, Some((draws, _)), Some(view)) = (pipeline, &quad_binds, &quad_view)
                 {
+                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some(name),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: None,
+                        timestamp_writes: queries.as_ref().map(|qs| {
+                            wgpu::RenderPassTimestampWrites {
+                                query_set: qs,
+                                beginning_of_pass_write_index: Some(q),
+                                end_of_pass_write_index: Some(q + 1),
+                            }
+                        }),
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                    pass.set_viewport(0.0, 0.0, w as f32, rows as f32, 0.0, 1.0);
+                    pass.set_pipeline(&self.quads.draw);
+                    pass.set_bind_group(0, &draws[b], &[]);
+                    let (first, end) = ranges[(*shape - 2) as usize];
+                    if end > first {
+                        pass.draw(0..6, first..end);
+                    }
+                } else if let Some(pipeline) = pipeline {
                     let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                         label: Some(name),
                         timestamp_writes: queries.as_ref().map(|qs| {
@@ -1130,6 +1336,9 @@ impl WgpuRenderer {
                     pass.set_bind_group(0, &binds[b], &[]);
                     if let (4 | 5, Some((mb, _, _))) = (shape, &moon_bind) {
                         pass.set_bind_group(1, mb, &[]);
+                    }
+                    if let (6, Some((_, target))) = (shape, &quad_binds) {
+                        pass.set_bind_group(1, target, &[]);
                     }
                     pass.dispatch_workgroups(g.0, g.1, 1);
                 }
@@ -1385,6 +1594,108 @@ fn compute_pipelines<'a>(
             compilation_options: Default::default(),
             cache: None,
         })
+    }
+}
+
+/// The point-source quads' pipelines (quads.wgsl): the instanced draw
+/// into a `format` target with additive blending (One, One), and the
+/// resolve pass that adds the target into `accum`.
+fn quad_pipelines(
+    device: &wgpu::Device,
+    sky: &wgpu::BindGroupLayout,
+    format: wgpu::TextureFormat,
+) -> QuadPipelines {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("quads.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(uniforms::QUADS_WGSL.into()),
+    });
+    let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("quads"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..uniform_entry::<FrameUniforms>(0)
+            },
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..uniform_entry::<NightUniforms>(5)
+            },
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..storage_entry(8, true)
+            },
+        ],
+    });
+    let target_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("quad target"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    });
+    let draw_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("quads"),
+        bind_group_layouts: &[Some(&draw_layout)],
+        immediate_size: 0,
+    });
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    let draw = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("quads"),
+        layout: Some(&draw_pl),
+        vertex: wgpu::VertexState {
+            module: &module,
+            entry_point: Some("quad_vs"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: wgpu::MultisampleState::default(),
+        fragment: Some(wgpu::FragmentState {
+            module: &module,
+            entry_point: Some("quad_fs"),
+            compilation_options: Default::default(),
+            targets: &[Some(wgpu::ColorTargetState {
+                format,
+                blend: Some(wgpu::BlendState {
+                    color: add,
+                    alpha: add,
+                }),
+                write_mask: wgpu::ColorWrites::ALL,
+            })],
+        }),
+        multiview_mask: None,
+        cache: None,
+    });
+    let resolve_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("quad resolve"),
+        bind_group_layouts: &[Some(sky), Some(&target_layout)],
+        immediate_size: 0,
+    });
+    let resolve = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some("quad_resolve"),
+        layout: Some(&resolve_pl),
+        module: &module,
+        entry_point: Some("quad_resolve"),
+        compilation_options: Default::default(),
+        cache: None,
+    });
+    QuadPipelines {
+        draw_layout,
+        target_layout,
+        draw,
+        resolve,
     }
 }
 
@@ -1874,6 +2185,9 @@ pub struct PointLists {
     pub tiles: [u32; 4],
     /// Per list: the first word and the number of its non-empty tiles.
     pub busy: [(u32, u32); 2],
+    /// Per list: its records, `records[start..end]` (the instances of its
+    /// quads, [`PointMethod::Quads`]).
+    pub ranges: [(u32, u32); 2],
 }
 
 /// The point sources of the GPU's point passes: one [`PointRecord`] per
@@ -1898,7 +2212,9 @@ pub fn point_lists(
     let mut words = Vec::new();
     let mut bases = [0u32; 2];
     let mut active = [(0u32, 0u32); 2];
+    let mut ranges = [(0u32, 0u32); 2];
     for (l, plans) in lists.iter().enumerate() {
+        let start_record = records.len() as u32;
         let mut per_tile: Vec<Vec<u32>> = vec![Vec::new(); n_tiles];
         for (plan, rgb) in plans.iter() {
             let (cx, cy) = plan.pos;
@@ -1957,6 +2273,7 @@ pub fn point_lists(
                 .map(|(i, _)| i as u32),
         );
         active[l] = (first, words.len() as u32 - first);
+        ranges[l] = (start_record, records.len() as u32);
     }
     if records.is_empty() {
         records.push(bytemuck::Zeroable::zeroed());
@@ -1966,6 +2283,7 @@ pub fn point_lists(
         words,
         tiles: [POINT_TILE, tx as u32, bases[0], bases[1]],
         busy: active,
+        ranges,
     }
 }
 

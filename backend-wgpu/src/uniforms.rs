@@ -210,6 +210,13 @@ pub const MOON_WGSL: &str = concat!(
     include_str!("shaders/moon.wgsl")
 );
 
+/// The WGSL source of the point sources as instanced quads: `sky.wgsl`
+/// followed by `quads.wgsl` (one module; the quad target in bind group 1).
+pub const QUADS_WGSL: &str = concat!(
+    include_str!("shaders/sky.wgsl"),
+    include_str!("shaders/quads.wgsl")
+);
+
 /// The WGSL source of the sky-view LUT passes.
 pub const SKYVIEW_WGSL: &str = include_str!("shaders/skyview.wgsl");
 
