@@ -239,6 +239,10 @@ pub struct GpuFrame {
     pub lut_source: &'static str,
     /// CPU time of the per-frame sky-view LUT, ms.
     pub sky_view_ms: f64,
+    /// How the stars and planets were drawn (`None` when neither pass
+    /// ran): the renderer's [`PointMethod`], or tiles where a quad target
+    /// of the image's width exceeds the adapter's texture limit.
+    pub points: Option<PointMethod>,
 }
 
 /// The wgpu renderer.
@@ -1383,6 +1387,13 @@ impl WgpuRenderer {
             precompute_ms,
             lut_source,
             sky_view_ms,
+            points: if quads {
+                Some(PointMethod::Quads)
+            } else if point_pass(Effect::Stars) || point_pass(Effect::Planets) {
+                Some(PointMethod::Tiles)
+            } else {
+                None
+            },
         })
     }
 
