@@ -50,9 +50,32 @@
 //! * Stars and planets: the CPU computes each source's footprint as its
 //!   splat does (`himmel_skymodel::stars::splat_plan`: position,
 //!   extinction, normalisations of the core and the glare disk) and bins it
-//!   into [`POINT_TILE`]² tiles ([`point_lists`]); one invocation per pixel
-//!   sums the footprints of its tile's list over the pixel's solid angle (no
-//!   atomics).
+//!   into [`POINT_TILE`]² tiles ([`point_lists`]). Two ways to draw them
+//!   ([`WgpuRenderer::set_point_method`]), both evaluating the same WGSL
+//!   footprint function (sky.wgsl `point_footprint`, the CPU's `splat_at`)
+//!   on the same records: [`PointMethod::Tiles`], one invocation per pixel
+//!   of each non-empty tile summing the footprints of its tile's list over
+//!   the pixel's solid angle (no atomics); [`PointMethod::Quads`]
+//!   (`src/shaders/quads.wgsl`), a render pass drawing one instanced quad
+//!   per record (6 vertices from `vertex_index`, the record read by
+//!   `instance_index` from a storage buffer; no geometry shader) over the
+//!   footprint's pixel bounds, core and glare disk, clipped to the band and
+//!   in a cube map to the record's face (equirect records are per wrap
+//!   already); the fragment shader returns footprint / Ω, added by the
+//!   blend state (One, One) into a band-sized float target —
+//!   `Rgba32Float` where the adapter has `FLOAT32_BLENDABLE` (requested
+//!   then; lavapipe has it), otherwise `Rgba16Float`, whose 11-bit
+//!   significand rounds each pass's star light to ≈ 5 × 10⁻⁴ relative and
+//!   saturates above 65504 cd/m² — which a compute pass (`quad_resolve`)
+//!   adds into the accumulation buffer at the pass's place in the order
+//!   (the Moon pass after it replaces that light by its coverage). The two
+//!   agree per pixel to ≤ 1e-6 in luminance with rgba32float
+//!   (tests/quads.rs). Timestamps cover the draw and the resolve. The
+//!   default ([`PointMethod::default_for`]) is tiles on software adapters
+//!   and quads on hardware GPUs: on lavapipe the quads measured QUADS_FIGURE
+//!   (`benches/render.rs`, group `night`, 1920×1080 fisheye); no GPU was
+//!   lent to measure the quads there, where rasterising only the
+//!   footprints' pixels avoids the tiles' idle invocations.
 //!
 //! * Moon (`src/shaders/moon.wgsl`, compiled after `sky.wgsl` in one
 //!   module, with its own bind group 1): skymodel moon.rs
@@ -201,7 +224,8 @@ struct QuadPipelines {
     draw_layout: wgpu::BindGroupLayout,
     target_layout: wgpu::BindGroupLayout,
     draw: wgpu::RenderPipeline,
-    resolve: wgpu::ComputePipeline,
+    /// The resolve passes of the stars' and the planets' lists.
+    resolve: [wgpu::ComputePipeline; 2],
 }
 
 struct Pipelines {
@@ -540,6 +564,32 @@ impl WgpuRenderer {
     /// rounded to ≈ 5e-4 relative, radiance above 65504 cd/m² saturating).
     pub fn quad_format(&self) -> wgpu::TextureFormat {
         self.quad_format
+    }
+
+    /// Sets the point-source quad target's format: `Rgba16Float` (any
+    /// adapter) or `Rgba32Float` (where the device has
+    /// `Features::FLOAT32_BLENDABLE`, which [`Self::new`] requests when the
+    /// adapter offers it); other formats are refused. Recompiles the draw.
+    pub fn set_quad_format(&mut self, format: wgpu::TextureFormat) -> Result<(), RenderError> {
+        let ok = match format {
+            wgpu::TextureFormat::Rgba16Float => true,
+            wgpu::TextureFormat::Rgba32Float => self
+                .device
+                .features()
+                .contains(wgpu::Features::FLOAT32_BLENDABLE),
+            _ => false,
+        };
+        if !ok {
+            return Err(RenderError::Unavailable(format!(
+                "the point-source quads cannot blend into {format:?} on this adapter"
+            )));
+        }
+        if format != self.quad_format {
+            self.quads = quad_pipelines(&self.device, &self.pipelines.layout, format);
+            self.quad_format = format;
+            self.quad_target = None;
+        }
+        Ok(())
     }
 
     /// The device (to bind [`GpuFrame::texture`] in your own passes).
@@ -981,7 +1031,10 @@ impl WgpuRenderer {
         night_u.busy = [busy[0].0, busy[1].0, busy[0].1, busy[1].1];
         let active = [busy[0].1, busy[1].1];
         if let Some((p, _)) = star_plans.first().or(planet_plans.first()) {
-            night_u.psf = [p.r as f32, 0.0, p.inv2s2, 0.0];
+            night_u.psf = [p.r as f32, 0.0, p.inv2s2, 1.0];
+        }
+        if self.quad_format != wgpu::TextureFormat::Rgba32Float {
+            night_u.psf[3] = quad_scale(&cam, star_plans.iter().chain(&planet_plans));
         }
         // Point sources as quads: a float target of the band's size (where
         // the adapter's texture limit allows the image width).
@@ -1191,8 +1244,8 @@ impl WgpuRenderer {
         // Passes back to front, then `store`, band by band.
         // Dispatch shape: 0 the band, 1 the Sun's rectangle, 2/3 the
         // stars'/planets' non-empty tiles, 4 the Moon's rectangle, 5 the
-        // corona's (part of the Sun pass), 6 the band reading the quad
-        // target (group 1). Each run adds its time to the pass statistic it
+        // corona's (part of the Sun pass), 6/7 the stars'/planets'
+        // non-empty tiles reading the quad target (group 1). Each run adds its time to the pass statistic it
         // names; with quads, the stars' and planets' runs are their draw
         // (a render pass, `None`) and its resolve.
         let mut runs: Vec<(String, Option<&wgpu::ComputePipeline>, u8, Option<usize>)> =
@@ -1214,7 +1267,8 @@ impl WgpuRenderer {
                 let name = planned.effect.name();
                 if quad_binds.is_some() && matches!(shape, 2 | 3) {
                     runs.push((name.into(), None, shape, stat));
-                    runs.push((name.into(), Some(&self.quads.resolve), 6, stat));
+                    let resolve = &self.quads.resolve[(shape - 2) as usize];
+                    runs.push((name.into(), Some(resolve), shape + 4, stat));
                     stats.push(PassStat {
                         name: name.into(),
                         ran: run,
@@ -1284,10 +1338,10 @@ impl WgpuRenderer {
                             y1.saturating_sub(y0).div_ceil(8),
                         )
                     }
-                    2 | 3 => {
+                    2 | 3 | 6 | 7 => {
                         // One 8 × 8 workgroup per non-empty tile, in rows
                         // of at most ACTIVE_ROW workgroups.
-                        let n = active[(*shape - 2) as usize];
+                        let n = active[((*shape - 2) % 4) as usize];
                         (n.min(ACTIVE_ROW), n.div_ceil(ACTIVE_ROW))
                     }
                     _ => (w.div_ceil(8), rows.div_ceil(8)),
@@ -1341,7 +1395,7 @@ impl WgpuRenderer {
                     if let (4 | 5, Some((mb, _, _))) = (shape, &moon_bind) {
                         pass.set_bind_group(1, mb, &[]);
                     }
-                    if let (6, Some((_, target))) = (shape, &quad_binds) {
+                    if let (6 | 7, Some((_, target))) = (shape, &quad_binds) {
                         pass.set_bind_group(1, target, &[]);
                     }
                     pass.dispatch_workgroups(g.0, g.1, 1);
@@ -1694,13 +1748,15 @@ fn quad_pipelines(
         bind_group_layouts: &[Some(sky), Some(&target_layout)],
         immediate_size: 0,
     });
-    let resolve = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some("quad_resolve"),
-        layout: Some(&resolve_pl),
-        module: &module,
-        entry_point: Some("quad_resolve"),
-        compilation_options: Default::default(),
-        cache: None,
+    let resolve = ["quad_resolve_stars", "quad_resolve_planets"].map(|entry| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&resolve_pl),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
     });
     QuadPipelines {
         draw_layout,
@@ -2296,6 +2352,30 @@ pub fn point_lists(
         busy: active,
         ranges,
     }
+}
+
+/// The scale of an rgba16float quad target (`NightUniforms::psf[3]`): the
+/// power of two that brings the largest footprint radiance — (core + glare
+/// scale) × the brightest colour channel / the solid angle of the pixel at
+/// the footprint's centre — near 2¹³, so that it stays below the format's
+/// 65504 and the faint stars above its subnormals (6.1 × 10⁻⁵; a star
+/// 10⁸ × fainter than the brightest source still gets a normal number).
+pub fn quad_scale<'a>(
+    cam: &Camera,
+    plans: impl Iterator<Item = &'a (himmel_skymodel::stars::SplatPlan, [f32; 3])>,
+) -> f32 {
+    let mut peak = 0.0f64;
+    for (p, rgb) in plans {
+        let omega = cam.pixel_solid_angle(p.pos.0, p.pos.1);
+        if omega > 0.0 {
+            let c = rgb.iter().fold(0.0f32, |m, v| m.max(*v)) as f64;
+            peak = peak.max((p.core_scale + p.glare_scale) as f64 * c / omega);
+        }
+    }
+    if !(peak > 0.0 && peak.is_finite()) {
+        return 1.0;
+    }
+    (2.0f64).powi((8192.0 / peak).log2().round().clamp(-120.0, 120.0) as i32) as f32
 }
 
 /// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose

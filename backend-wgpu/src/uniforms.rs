@@ -108,7 +108,8 @@ pub struct NightUniforms {
     /// Point sources: tile size (px), tiles per row, first word of the
     /// stars' and of the planets' tile lists.
     pub tiles: [u32; 4],
-    /// Point sources: core radius r (px), reserved, 1 / (2σ²) (px⁻²), reserved.
+    /// Point sources: core radius r (px), reserved, 1 / (2σ²) (px⁻²), the
+    /// scale of the quad target (a power of two; 1 for rgba32float).
     pub psf: [f32; 4],
     /// Point sources: first word of the stars' and of the planets'
     /// non-empty tile indices, and their numbers.

@@ -8,7 +8,7 @@
 // — within the current band (and, in a cube map, within the record's
 // face); the fragment shader evaluates `point_footprint` (sky.wgsl) at the
 // pixel and returns radiance, added by the blend state (One, One) into a
-// float target of the band's size. `quad_resolve` then adds that target
+// float target of the band's size. `quad_resolve_*` then adds that target
 // into `accum` at the pass's place in the pass order.
 
 // The quad target of the band, read by `quad_resolve`.
@@ -70,16 +70,47 @@ fn quad_fs(q: QuadOut) -> @location(0) vec4<f32> {
         let d = pixel_dir(fx, fy);
         below = d.w == 0.0 || d.z < 0.0;
     }
-    return vec4<f32>(point_footprint(s, px, py, fx, fy, below, point_face(px)) / omega, 0.0);
+    // × the target's scale (rgba16float: the brightest footprint near
+    // 2¹³, far from its overflow at 65504 and its subnormals below 6e-5).
+    let l = point_footprint(s, px, py, fx, fy, below, point_face(px)) / omega;
+    return vec4<f32>(l * night.psf.w, 0.0);
 }
 
-// Adds the band's quad target into `accum`.
-@compute @workgroup_size(8, 8, 1)
-fn quad_resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (!inside(gid)) {
+// Adds the band's quad target into `accum` over the list's non-empty
+// 8 × 8 tiles (every quad lies within the tiles its record is listed in):
+// one workgroup per tile, as the tiled passes (sky.wgsl `point_sources`).
+fn quad_resolve(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, first: u32, n: u32) {
+    let k = wg.y * nwg.x + wg.x;
+    if (k >= n) {
         return;
     }
-    let i = gid.y * frame.size.x + gid.x;
-    let l = textureLoad(quad_src, vec2<u32>(gid.x, gid.y), 0);
-    accum[i] = accum[i] + vec4<f32>(l.xyz, 0.0);
+    let t = tiles[first + k];
+    let ts = night.tiles.x;
+    let px = (t % night.tiles.y) * ts + lid.x;
+    let py = (t / night.tiles.y) * ts + lid.y;
+    if (px >= frame.size.x || py < frame.band.x || py >= frame.band.x + frame.band.y) {
+        return;
+    }
+    let y = py - frame.band.x;
+    let i = y * frame.size.x + px;
+    let l = textureLoad(quad_src, vec2<u32>(px, y), 0);
+    accum[i] = accum[i] + vec4<f32>(l.xyz / night.psf.w, 0.0);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn quad_resolve_stars(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    quad_resolve(wg, nwg, lid, night.busy.x, night.busy.z);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn quad_resolve_planets(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    quad_resolve(wg, nwg, lid, night.busy.y, night.busy.w);
 }

@@ -63,7 +63,8 @@ struct Night {
     // point sources: tile size (px), tiles per row, first word of the
     // stars' and of the planets' tile lists in `tiles`
     tiles: vec4<u32>,
-    // point sources: core radius r (px), reserved; 1 / (2σ²) (px⁻²), reserved
+    // point sources: core radius r (px), reserved; 1 / (2σ²) (px⁻²), the
+    // quad target's scale (quads.wgsl; a power of two, 1 for rgba32float)
     psf: vec4<f32>,
     // point sources: first word of the stars' and of the planets' non-empty
     // tile indices in `tiles`, and their numbers
