@@ -283,13 +283,18 @@ fn quads_planet_glare_perspective() {
     assert!(plans.iter().any(|(p, _)| p.glare_r_px > 2.0), "no glare");
     let (c, q) = compare("quads: planet glare, perspective 8°", &s, 20.0, 1, 5);
     // The glare disk's light: Σ luminance within its radius + 1 px.
-    let (px, py) = s.camera.dir_to_pixel(DVec3::from_array([
-        p.dir.x as f64,
-        p.dir.y as f64,
-        p.dir.z as f64,
-    ]))
-    .expect("the planet is in view");
-    let rg = plans.iter().map(|(p, _)| p.glare_r_px).fold(0.0f32, f32::max) as f64;
+    let (px, py) = s
+        .camera
+        .dir_to_pixel(DVec3::from_array([
+            p.dir.x as f64,
+            p.dir.y as f64,
+            p.dir.z as f64,
+        ]))
+        .expect("the planet is in view");
+    let rg = plans
+        .iter()
+        .map(|(p, _)| p.glare_r_px)
+        .fold(0.0f32, f32::max) as f64;
     let near = |img: &HdrImage| -> f64 {
         let mut sum = 0.0;
         for (i, v) in img.pixels.iter().enumerate() {
@@ -359,7 +364,10 @@ fn quads_half_float_target() {
     assert!(qt8 <= 1e-2, "rgba16float quads vs tiles {qt8:e}");
     // The half-float target does round: it differs from the full one.
     if let Some(f) = full {
-        assert!(max_rel(&f, &q) > 0.0, "rgba16float drew the rgba32float image");
+        assert!(
+            max_rel(&f, &q) > 0.0,
+            "rgba16float drew the rgba32float image"
+        );
     }
     assert!(med <= 0.02 && p99 <= 0.10, "{med} {p99}");
     same_peaks("quads rgba16float", &c, &q, 20.0, 50);
