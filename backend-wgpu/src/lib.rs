@@ -232,6 +232,8 @@ struct QuadPipelines {
     draw_layout: wgpu::BindGroupLayout,
     target_layout: wgpu::BindGroupLayout,
     draw: wgpu::RenderPipeline,
+    /// Zeroes the non-empty tiles before the draw (no full-target clear).
+    clear: wgpu::RenderPipeline,
     /// The resolve passes of the stars' and the planets' lists.
     resolve: [wgpu::ComputePipeline; 2],
 }
@@ -1235,6 +1237,10 @@ impl WgpuRenderer {
                                 binding: 8,
                                 resource: points_buf.resource(),
                             },
+                            wgpu::BindGroupEntry {
+                                binding: 9,
+                                resource: tiles_buf.resource(),
+                            },
                         ],
                     })
                 })
@@ -1362,8 +1368,9 @@ impl WgpuRenderer {
                             view,
                             depth_slice: None,
                             resolve_target: None,
+                            // The non-empty tiles are cleared by a draw.
                             ops: wgpu::Operations {
-                                load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                                load: wgpu::LoadOp::Load,
                                 store: wgpu::StoreOp::Store,
                             },
                         })],
@@ -1379,8 +1386,13 @@ impl WgpuRenderer {
                         multiview_mask: None,
                     });
                     pass.set_viewport(0.0, 0.0, w as f32, rows as f32, 0.0, 1.0);
-                    pass.set_pipeline(&self.quads.draw);
                     pass.set_bind_group(0, &draws[b], &[]);
+                    let (word, n) = busy[(*shape - 2) as usize];
+                    if n > 0 {
+                        pass.set_pipeline(&self.quads.clear);
+                        pass.draw(0..6, word..word + n);
+                    }
+                    pass.set_pipeline(&self.quads.draw);
                     let (first, end) = ranges[(*shape - 2) as usize];
                     if end > first {
                         pass.draw(0..6, first..end);
@@ -1696,6 +1708,10 @@ fn quad_pipelines(
                 visibility: vf,
                 ..storage_entry(8, true)
             },
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..storage_entry(9, true)
+            },
         ],
     });
     let target_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -1721,34 +1737,42 @@ fn quad_pipelines(
         dst_factor: wgpu::BlendFactor::One,
         operation: wgpu::BlendOperation::Add,
     };
-    let draw = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some("quads"),
-        layout: Some(&draw_pl),
-        vertex: wgpu::VertexState {
-            module: &module,
-            entry_point: Some("quad_vs"),
-            compilation_options: Default::default(),
-            buffers: &[],
-        },
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: wgpu::MultisampleState::default(),
-        fragment: Some(wgpu::FragmentState {
-            module: &module,
-            entry_point: Some("quad_fs"),
-            compilation_options: Default::default(),
-            targets: &[Some(wgpu::ColorTargetState {
-                format,
-                blend: Some(wgpu::BlendState {
-                    color: add,
-                    alpha: add,
-                }),
-                write_mask: wgpu::ColorWrites::ALL,
-            })],
+    let render = |vs: &str, fs: &str, blend: Option<wgpu::BlendState>| {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(fs),
+            layout: Some(&draw_pl),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(vs),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    };
+    let draw = render(
+        "quad_vs",
+        "quad_fs",
+        Some(wgpu::BlendState {
+            color: add,
+            alpha: add,
         }),
-        multiview_mask: None,
-        cache: None,
-    });
+    );
+    let clear = render("quad_clear_vs", "quad_clear_fs", None);
     let resolve_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
         label: Some("quad resolve"),
         bind_group_layouts: &[Some(sky), Some(&target_layout)],
@@ -1768,6 +1792,7 @@ fn quad_pipelines(
         draw_layout,
         target_layout,
         draw,
+        clear,
         resolve,
     }
 }

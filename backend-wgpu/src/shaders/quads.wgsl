@@ -53,6 +53,36 @@ fn quad_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) id: u32) -> Q
     return out;
 }
 
+// Clears the list's non-empty 8 × 8 tiles of the target (drawn before the
+// footprints with blending off; the resolve reads exactly these tiles):
+// one instance per tile, `instance_index` = the word of `tiles` holding the
+// tile's index, so that no full-target clear is needed.
+@vertex
+fn quad_clear_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) word: u32) -> QuadOut {
+    let t = tiles[word];
+    let ts = night.tiles.x;
+    let x0 = f32((t % night.tiles.y) * ts);
+    let y0 = f32((t / night.tiles.y) * ts) - f32(frame.band.x);
+    let cx = array<f32, 6>(0.0, 1.0, 0.0, 0.0, 1.0, 1.0);
+    let cy = array<f32, 6>(0.0, 0.0, 1.0, 1.0, 0.0, 1.0);
+    let x = x0 + f32(ts) * cx[v % 6u];
+    let y = y0 + f32(ts) * cy[v % 6u];
+    var out: QuadOut;
+    out.pos = vec4<f32>(
+        2.0 * x / f32(frame.size.x) - 1.0,
+        1.0 - 2.0 * y / f32(frame.band.y),
+        0.0,
+        1.0,
+    );
+    out.id = t;
+    return out;
+}
+
+@fragment
+fn quad_clear_fs(q: QuadOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(0.0);
+}
+
 @fragment
 fn quad_fs(q: QuadOut) -> @location(0) vec4<f32> {
     // The fragment position is the pixel centre (band rows).
