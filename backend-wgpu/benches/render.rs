@@ -13,7 +13,7 @@
 //! 1920×1080 fisheye, LUTs in memory), one frame left on the GPU with the
 //! point sources drawn as
 //!
-//! * `wgpu_quads` — instanced quads (`PointMethod::Quads`);
+//! * `wgpu_quads` — instanced quads (`PointMethod::Quads`, the default);
 //! * `wgpu_tiles` — the tiled compute passes (`PointMethod::Tiles`);
 //!
 //! and `cpu_frame`, the CPU renderer; the per-pass times of both methods

@@ -74,16 +74,14 @@
 //!   accumulation buffer at the pass's place in the order (the Moon pass
 //!   after it replaces that light by its coverage). With rgba32float the
 //!   two methods agree per pixel to ≤ 1e-6 in luminance (tests/quads.rs).
-//!   Timestamps cover the draw and the resolve. The default
-//!   ([`PointMethod::default_for`]) is tiles on software adapters and quads
-//!   on hardware GPUs: on lavapipe (2 cores) a 1920×1080 fisheye night
-//!   frame (stars + planets + atmosphere) took 196–199 ms with quads,
-//!   181–193 ms with tiles and 85–86 ms on the CPU backend
-//!   (`benches/render.rs`, group `night`, two runs) — a software
-//!   rasteriser pays for clearing the full-frame target (≈ 4 ms of the
-//!   planets' 7 ms) and for every fragment; no hardware GPU was lent to measure
-//!   the quads there, where rasterising only the footprints' pixels avoids
-//!   the tiles' idle invocations.
+//!   Timestamps cover the draw and the resolve. The non-empty tiles of the
+//!   target are zeroed by a draw before the footprints (no full-target
+//!   clear). The default ([`PointMethod::default_for`]) is quads: on
+//!   lavapipe (2 cores) a 1920×1080 fisheye night frame (stars + planets +
+//!   atmosphere) took 193–201 ms with quads and 193–200 ms with tiles
+//!   (85–88 ms on the CPU backend; `benches/render.rs`, group `night`,
+//!   three runs) — a tie; no hardware GPU was lent to measure them there,
+//!   where the rasteriser touches only the footprints' pixels.
 //!
 //! * Moon (`src/shaders/moon.wgsl`, compiled after `sky.wgsl` in one
 //!   module, with its own bind group 1): skymodel moon.rs
@@ -214,14 +212,14 @@ impl PointMethod {
         }
     }
 
-    /// The default for an adapter of this type: tiles on a software
-    /// adapter (CPU, e.g. lavapipe), quads on hardware GPUs (measured in
-    /// `benches/render.rs`, group `night`; see the crate documentation).
+    /// The default for an adapter of this type: quads on every adapter.
+    /// On lavapipe (a software adapter) quads and tiles tie in frame time
+    /// (`benches/render.rs`, group `night`; see the crate documentation);
+    /// on hardware GPUs the rasteriser touches only the footprints' pixels
+    /// (not measured: no GPU was lent).
     pub fn default_for(device_type: wgpu::DeviceType) -> Self {
-        match device_type {
-            wgpu::DeviceType::Cpu => PointMethod::Tiles,
-            _ => PointMethod::Quads,
-        }
+        let _ = device_type;
+        PointMethod::Quads
     }
 }
 
