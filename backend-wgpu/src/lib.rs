@@ -2554,11 +2554,16 @@ mod tests {
     use himmel_skymodel::projection::enu_from_alt_az;
 
     /// The point passes run one workgroup per tile: their workgroup size
-    /// is the tile size.
+    /// is the tile size (the quads' resolve passes too).
     #[test]
     fn point_workgroups_are_tiles() {
         let module = naga::front::wgsl::parse_str(uniforms::SKY_WGSL).expect("sky.wgsl parses");
         for name in ["stars", "planets"] {
+            let e = module.entry_points.iter().find(|e| e.name == name).unwrap();
+            assert_eq!(e.workgroup_size, [POINT_TILE, POINT_TILE, 1], "{name}");
+        }
+        let module = naga::front::wgsl::parse_str(uniforms::QUADS_WGSL).expect("quads.wgsl parses");
+        for name in ["quad_resolve_stars", "quad_resolve_planets"] {
             let e = module.entry_points.iter().find(|e| e.name == name).unwrap();
             assert_eq!(e.workgroup_size, [POINT_TILE, POINT_TILE, 1], "{name}");
         }
@@ -2618,5 +2623,72 @@ mod tests {
                 }
             }
         }
+    }
+
+    fn plan(
+        x: f64,
+        y: f64,
+        core: f32,
+        glare_r: f32,
+    ) -> (himmel_skymodel::stars::SplatPlan, [f32; 3]) {
+        (
+            himmel_skymodel::stars::SplatPlan {
+                pos: (x, y),
+                face: 0,
+                near_horizon: false,
+                r: 2,
+                inv2s2: 1.0,
+                core_scale: core,
+                glare_r_px: glare_r,
+                glare_scale: 0.5 * core,
+            },
+            [1.0, 0.5, 0.25],
+        )
+    }
+
+    /// Each list's records are a contiguous range (the instances of its
+    /// quads): the stars' first, then the planets', one record per
+    /// footprint and equirect wrap.
+    #[test]
+    fn point_list_ranges_are_the_lists_records() {
+        let mut cam = Camera::default();
+        cam.projection = Projection::Equirect;
+        cam.width = 64;
+        cam.height = 32;
+        let stars = [plan(10.5, 10.5, 1e-6, 0.0), plan(63.5, 16.0, 2e-6, 0.0)];
+        let planets = [plan(30.0, 20.0, 1e-4, 3.5)];
+        let l = point_lists(&cam, &[&stars, &planets]);
+        // The second star crosses the seam: two records.
+        assert_eq!(l.ranges, [(0, 3), (3, 4)]);
+        assert_eq!(l.records.len(), 4);
+        assert_eq!(l.records[3].a[3], 3.5);
+        let empty = point_lists(&cam, &[&[], &planets]);
+        assert_eq!(empty.ranges, [(0, 0), (0, 1)]);
+    }
+
+    /// The rgba16float target's scale is a power of two that brings the
+    /// largest footprint radiance to within a factor √2 of 2¹³; 1 without
+    /// sources.
+    #[test]
+    fn quad_scale_brings_the_peak_near_2_13() {
+        let mut cam = Camera::default();
+        cam.projection = Projection::Fisheye;
+        cam.width = 256;
+        cam.height = 256;
+        for core in [1e-9f32, 1e-6, 1e-3, 10.0] {
+            let plans = [
+                plan(128.5, 128.5, core, 2.0),
+                plan(100.0, 90.0, core * 1e-3, 0.0),
+            ];
+            let k = quad_scale(&cam, plans.iter());
+            assert_eq!(k.log2().fract(), 0.0, "{k}");
+            let omega = cam.pixel_solid_angle(128.5, 128.5);
+            let peak = 1.5 * core as f64 / omega * k as f64;
+            assert!(
+                (8192.0 / 2f64.sqrt()..=8192.0 * 2f64.sqrt()).contains(&peak),
+                "{core}: {peak}"
+            );
+        }
+        assert_eq!(quad_scale(&cam, [].iter()), 1.0);
     }
 }

@@ -448,6 +448,29 @@ mod tests {
         }
     }
 
+    /// sky.wgsl + quads.wgsl validate; the point-source quads have their
+    /// vertex, fragment and resolve entry points.
+    #[test]
+    fn quads_shader_validates() {
+        let module = naga::front::wgsl::parse_str(QUADS_WGSL).expect("quads.wgsl parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .expect("quads.wgsl validates");
+        for e in [
+            "quad_vs",
+            "quad_fs",
+            "quad_clear_vs",
+            "quad_clear_fs",
+            "quad_resolve_stars",
+            "quad_resolve_planets",
+        ] {
+            assert!(module.entry_points.iter().any(|p| p.name == e), "{e}");
+        }
+    }
+
     /// The shader validates (all entry points) under naga's default rules.
     #[test]
     fn shader_validates() {
