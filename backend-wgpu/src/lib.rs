@@ -2651,10 +2651,12 @@ mod tests {
     /// footprint and equirect wrap.
     #[test]
     fn point_list_ranges_are_the_lists_records() {
-        let mut cam = Camera::default();
-        cam.projection = Projection::Equirect;
-        cam.width = 64;
-        cam.height = 32;
+        let cam = Camera {
+            projection: Projection::Equirect,
+            width: 64,
+            height: 32,
+            ..Default::default()
+        };
         let stars = [plan(10.5, 10.5, 1e-6, 0.0), plan(63.5, 16.0, 2e-6, 0.0)];
         let planets = [plan(30.0, 20.0, 1e-4, 3.5)];
         let l = point_lists(&cam, &[&stars, &planets]);
@@ -2671,10 +2673,12 @@ mod tests {
     /// sources.
     #[test]
     fn quad_scale_brings_the_peak_near_2_13() {
-        let mut cam = Camera::default();
-        cam.projection = Projection::Fisheye;
-        cam.width = 256;
-        cam.height = 256;
+        let cam = Camera {
+            projection: Projection::Fisheye,
+            width: 256,
+            height: 256,
+            ..Default::default()
+        };
         for core in [1e-9f32, 1e-6, 1e-3, 10.0] {
             let plans = [
                 plan(128.5, 128.5, core, 2.0),
