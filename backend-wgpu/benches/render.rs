@@ -13,8 +13,10 @@
 //! 1920×1080 fisheye, LUTs in memory), one frame left on the GPU with the
 //! point sources drawn as
 //!
-//! * `wgpu_quads` — instanced quads (`PointMethod::Quads`, the default);
-//! * `wgpu_tiles` — the tiled compute passes (`PointMethod::Tiles`);
+//! * `wgpu_quads` — instanced quads (`PointMethod::Quads`, the default on
+//!   hardware GPUs);
+//! * `wgpu_tiles` — the tiled compute passes (`PointMethod::Tiles`, the
+//!   default on software adapters);
 //!
 //! and `cpu_frame`, the CPU renderer; the per-pass times of both methods
 //! are printed after the group.

@@ -76,12 +76,17 @@
 //!   two methods agree per pixel to ≤ 1e-6 in luminance (tests/quads.rs).
 //!   Timestamps cover the draw and the resolve. The non-empty tiles of the
 //!   target are zeroed by a draw before the footprints (no full-target
-//!   clear). The default ([`PointMethod::default_for`]) is quads: on
-//!   lavapipe (2 cores) a 1920×1080 fisheye night frame (stars + planets +
-//!   atmosphere) took 193–201 ms with quads and 193–200 ms with tiles
-//!   (85–88 ms on the CPU backend; `benches/render.rs`, group `night`,
-//!   three runs) — a tie; no hardware GPU was lent to measure them there,
-//!   where the rasteriser touches only the footprints' pixels.
+//!   clear). On lavapipe (2 cores) a 1920×1080 fisheye night frame (stars +
+//!   planets + atmosphere) took 193–201 ms with quads and 193–200 ms with
+//!   tiles (85–88 ms on the CPU backend; `benches/render.rs`, group
+//!   `night`, three runs) — a tie. The default ([`PointMethod::default_for`])
+//!   is nevertheless tiles on software adapters: lavapipe's timestamp
+//!   queries do not follow its deferred rasteriser, and with a render pass
+//!   in the submission they put the compute passes' time elsewhere (a
+//!   1024² night frame reported the Milky Way pass at 0.13 ms instead of
+//!   ≈ 35 ms), which would make `--stats` wrong; quads on hardware GPUs,
+//!   where the rasteriser touches only the footprints' pixels (no hardware
+//!   GPU was lent to measure them there).
 //!
 //! * Moon (`src/shaders/moon.wgsl`, compiled after `sky.wgsl` in one
 //!   module, with its own bind group 1): skymodel moon.rs
@@ -212,14 +217,18 @@ impl PointMethod {
         }
     }
 
-    /// The default for an adapter of this type: quads on every adapter.
-    /// On lavapipe (a software adapter) quads and tiles tie in frame time
-    /// (`benches/render.rs`, group `night`; see the crate documentation);
-    /// on hardware GPUs the rasteriser touches only the footprints' pixels
-    /// (not measured: no GPU was lent).
+    /// The default for an adapter of this type: tiles on a software
+    /// adapter (`DeviceType::Cpu`, e.g. lavapipe), quads on every other.
+    /// On lavapipe the two tie in frame time (`benches/render.rs`, group
+    /// `night`), but its timestamp queries misattribute the compute passes'
+    /// time once a render pass is in the submission (the `--stats` per-pass
+    /// times would be wrong); on hardware GPUs the rasteriser touches only
+    /// the footprints' pixels (not measured: no GPU was lent).
     pub fn default_for(device_type: wgpu::DeviceType) -> Self {
-        let _ = device_type;
-        PointMethod::Quads
+        match device_type {
+            wgpu::DeviceType::Cpu => PointMethod::Tiles,
+            _ => PointMethod::Quads,
+        }
     }
 }
 
