@@ -9,6 +9,18 @@
 //! * `wgpu_frame_readback` — `wgpu_frame` plus the copy back into an `HdrImage`;
 //! * `cpu_frame` — the CPU renderer, all cores.
 //!
+//! In the group `night` (stars + planets + atmosphere on a dark night,
+//! 1920×1080 fisheye, LUTs in memory), one frame left on the GPU with the
+//! point sources drawn as
+//!
+//! * `wgpu_quads` — instanced quads (`PointMethod::Quads`, the default on
+//!   hardware GPUs);
+//! * `wgpu_tiles` — the tiled compute passes (`PointMethod::Tiles`, the
+//!   default on software adapters);
+//!
+//! and `cpu_frame`, the CPU renderer; the per-pass times of both methods
+//! are printed after the group.
+//!
 //! and, in the group `precompute`, the parameter-dependent LUTs at the
 //! default `LutConfig` (transmittance pair 256×64, Ψ_ms 48², 64
 //! directions):
@@ -29,7 +41,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::{AtmosphereParams, LutConfig};
 use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
-use himmel_wgpu::{luts, LutSource, WgpuRenderer};
+use himmel_wgpu::{luts, LutSource, PointMethod, WgpuRenderer};
 
 fn scene(w: u32, h: u32) -> Scene {
     let mut s = Scene::default();
@@ -58,6 +70,7 @@ fn benches(c: &mut Criterion) {
         gpu.timing().name()
     );
     precompute(c, &mut gpu);
+    night(c, &mut gpu);
     let mut cpu = CpuRenderer::new(None);
     for (w, h) in [(1024u32, 1024u32), (1920, 1080)] {
         let s = scene(w, h);
@@ -89,6 +102,52 @@ fn benches(c: &mut Criterion) {
         }
         eprintln!("{w}x{h} wgpu sky view (GPU): {:.2} ms", out.sky_view_ms);
     }
+}
+
+/// The `night` group (see the module documentation).
+fn night(c: &mut Criterion, gpu: &mut WgpuRenderer) {
+    let mut s = scene(1920, 1080);
+    s.time.utc = "2024-01-15T19:30:00Z".into();
+    s.observer.lat_deg = 48.14;
+    s.observer.lon_deg = 11.58;
+    s.effects = vec![Effect::Stars, Effect::Planets, Effect::Atmosphere];
+    let state = SkyState::at(&s).unwrap();
+    let mut cpu = CpuRenderer::new(None);
+    cpu.render(&s, &state).unwrap();
+    let before = gpu.point_method();
+    let mut g = c.benchmark_group("night");
+    g.sample_size(10);
+    for m in [PointMethod::Quads, PointMethod::Tiles] {
+        gpu.set_point_method(m);
+        gpu.render(&s, &state).unwrap();
+        g.bench_function(format!("wgpu_{}", m.name()), |b| {
+            b.iter(|| gpu.render_frame(&s, &state).unwrap())
+        });
+    }
+    g.bench_function("cpu_frame", |b| b.iter(|| cpu.render(&s, &state).unwrap()));
+    g.finish();
+    // Per-pass times from timestamps and from the CPU clock around each
+    // awaited pass (lavapipe's timestamps do not follow its deferred
+    // rasterisation: with the quads' render passes in the submission the
+    // atmosphere's compute work is attributed elsewhere).
+    for ts in [true, false] {
+        gpu.set_timestamps(ts);
+        for m in [PointMethod::Quads, PointMethod::Tiles] {
+            gpu.set_point_method(m);
+            let f = gpu.render_frame(&s, &state).unwrap();
+            for p in f.passes.iter().filter(|p| p.ran) {
+                eprintln!(
+                    "night 1920x1080 {} ({}): pass {}: {:.2} ms",
+                    m.name(),
+                    gpu.timing().name(),
+                    p.name,
+                    p.ms.unwrap_or(0.0)
+                );
+            }
+        }
+    }
+    gpu.set_timestamps(true);
+    gpu.set_point_method(before);
 }
 
 /// The `precompute` group (see the module documentation).

@@ -50,9 +50,43 @@
 //! * Stars and planets: the CPU computes each source's footprint as its
 //!   splat does (`himmel_skymodel::stars::splat_plan`: position,
 //!   extinction, normalisations of the core and the glare disk) and bins it
-//!   into [`POINT_TILE`]² tiles ([`point_lists`]); one invocation per pixel
-//!   sums the footprints of its tile's list over the pixel's solid angle (no
-//!   atomics).
+//!   into [`POINT_TILE`]² tiles ([`point_lists`]). Two ways to draw them
+//!   ([`WgpuRenderer::set_point_method`]), both evaluating the same WGSL
+//!   footprint function (sky.wgsl `point_footprint`, the CPU's `splat_at`)
+//!   on the same records: [`PointMethod::Tiles`], one invocation per pixel
+//!   of each non-empty tile summing the footprints of its tile's list over
+//!   the pixel's solid angle (no atomics); [`PointMethod::Quads`]
+//!   (`src/shaders/quads.wgsl`), a render pass drawing one instanced quad
+//!   per record (6 vertices from `vertex_index`, the record read by
+//!   `instance_index` from a storage buffer; no geometry shader) over the
+//!   footprint's pixel bounds, core and glare disk, clipped to the band and
+//!   in a cube map to the record's face (equirect records are per wrap
+//!   already); the fragment shader returns footprint / Ω, added by the
+//!   blend state (One, One) into a band-sized float target —
+//!   `Rgba32Float` where the adapter has `FLOAT32_BLENDABLE` (requested
+//!   then; lavapipe has it), otherwise `Rgba16Float`, scaled by a power of
+//!   two ([`quad_scale`]) so that the brightest footprint stays below its
+//!   65504 and faint stars above its subnormals; its 11-bit significand
+//!   costs up to 0.64 % per pixel against the tiles (above 10⁻⁸ × the
+//!   brightest pixel; fainter pixels lose more) and moves the median
+//!   difference to the CPU from 0.0001 % to 0.04 % — which compute passes
+//!   (`quad_resolve_*`, one workgroup per non-empty tile) add into the
+//!   accumulation buffer at the pass's place in the order (the Moon pass
+//!   after it replaces that light by its coverage). With rgba32float the
+//!   two methods agree per pixel to ≤ 1e-6 in luminance (tests/quads.rs).
+//!   Timestamps cover the draw and the resolve. The non-empty tiles of the
+//!   target are zeroed by a draw before the footprints (no full-target
+//!   clear). On lavapipe (2 cores) a 1920×1080 fisheye night frame (stars +
+//!   planets + atmosphere) took 193–201 ms with quads and 193–200 ms with
+//!   tiles (85–88 ms on the CPU backend; `benches/render.rs`, group
+//!   `night`, three runs) — a tie. The default ([`PointMethod::default_for`])
+//!   is nevertheless tiles on software adapters: lavapipe's timestamp
+//!   queries do not follow its deferred rasteriser, and with a render pass
+//!   in the submission they put the compute passes' time elsewhere (a
+//!   1024² night frame reported the Milky Way pass at 0.13 ms instead of
+//!   ≈ 35 ms), which would make `--stats` wrong; quads on hardware GPUs,
+//!   where the rasteriser touches only the footprints' pixels (no hardware
+//!   GPU was lent to measure them there).
 //!
 //! * Moon (`src/shaders/moon.wgsl`, compiled after `sky.wgsl` in one
 //!   module, with its own bind group 1): skymodel moon.rs
@@ -159,6 +193,58 @@ impl Timing {
     }
 }
 
+/// How the stars' and planets' footprints are drawn. Both evaluate the
+/// same per-pixel footprint (sky.wgsl `point_footprint`) from the same
+/// records ([`point_lists`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PointMethod {
+    /// Compute passes: one workgroup per non-empty 8 × 8 tile, each pixel
+    /// sums the footprints listed for its tile (sky.wgsl `stars`/`planets`).
+    Tiles,
+    /// A render pass: one instanced quad per footprint record (vertex +
+    /// fragment shaders, no geometry shader, quads.wgsl), added by the blend
+    /// state into a float target ([`WgpuRenderer::quad_format`]) that a
+    /// compute pass then adds into the frame.
+    Quads,
+}
+
+impl PointMethod {
+    /// The `--stats` name: `tiles` or `quads`.
+    pub fn name(self) -> &'static str {
+        match self {
+            PointMethod::Tiles => "tiles",
+            PointMethod::Quads => "quads",
+        }
+    }
+
+    /// The default for an adapter of this type: tiles on a software
+    /// adapter (`DeviceType::Cpu`, e.g. lavapipe), quads on every other.
+    /// On lavapipe the two tie in frame time (`benches/render.rs`, group
+    /// `night`), but its timestamp queries misattribute the compute passes'
+    /// time once a render pass is in the submission (the `--stats` per-pass
+    /// times would be wrong); on hardware GPUs the rasteriser touches only
+    /// the footprints' pixels (not measured: no GPU was lent).
+    pub fn default_for(device_type: wgpu::DeviceType) -> Self {
+        match device_type {
+            wgpu::DeviceType::Cpu => PointMethod::Tiles,
+            _ => PointMethod::Quads,
+        }
+    }
+}
+
+/// The point-source quads: the draw (bind group 0: frame, night
+/// constants, records) and the resolve pass (the sky's bind group 0 and the
+/// quad target in group 1).
+struct QuadPipelines {
+    draw_layout: wgpu::BindGroupLayout,
+    target_layout: wgpu::BindGroupLayout,
+    draw: wgpu::RenderPipeline,
+    /// Zeroes the non-empty tiles before the draw (no full-target clear).
+    clear: wgpu::RenderPipeline,
+    /// The resolve passes of the stars' and the planets' lists.
+    resolve: [wgpu::ComputePipeline; 2],
+}
+
 struct Pipelines {
     layout: wgpu::BindGroupLayout,
     atmosphere: wgpu::ComputePipeline,
@@ -194,6 +280,10 @@ pub struct GpuFrame {
     pub lut_source: &'static str,
     /// CPU time of the per-frame sky-view LUT, ms.
     pub sky_view_ms: f64,
+    /// How the stars and planets were drawn (`None` when neither pass
+    /// ran): the renderer's [`PointMethod`], or tiles where a quad target
+    /// of the image's width exceeds the adapter's texture limit.
+    pub points: Option<PointMethod>,
 }
 
 /// The wgpu renderer.
@@ -225,6 +315,12 @@ pub struct WgpuRenderer {
     /// The per-frame buffers (tables, uniforms, accumulation, read-back),
     /// kept across frames.
     pool: BufferPool,
+    point_method: PointMethod,
+    quads: QuadPipelines,
+    /// The quad target's format: rgba32float when the adapter blends it.
+    quad_format: wgpu::TextureFormat,
+    /// The quad target (band-sized), kept across frames.
+    quad_target: Option<wgpu::Texture>,
 }
 
 /// Buffers kept across frames, one per slot name: a frame rewrites a
@@ -373,10 +469,22 @@ impl WgpuRenderer {
         .map_err(|e| WgpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let timestamps = adapter.features().contains(wgpu::Features::TIMESTAMP_QUERY);
-        let features = if timestamps {
+        let mut features = if timestamps {
             wgpu::Features::TIMESTAMP_QUERY
         } else {
             wgpu::Features::empty()
+        };
+        // Additive blending into rgba32float for the point-source quads.
+        let blend32 = adapter
+            .features()
+            .contains(wgpu::Features::FLOAT32_BLENDABLE);
+        if blend32 {
+            features |= wgpu::Features::FLOAT32_BLENDABLE;
+        }
+        let quad_format = if blend32 {
+            wgpu::TextureFormat::Rgba32Float
+        } else {
+            wgpu::TextureFormat::Rgba16Float
         };
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("himmel"),
@@ -388,7 +496,12 @@ impl WgpuRenderer {
         let pipelines = Self::pipelines(&device);
         let skyview = skyview_pipelines(&device);
         let lut_source = LutSource::default_for(info.device_type);
+        let quads = quad_pipelines(&device, &pipelines.layout, quad_format);
         Ok(WgpuRenderer {
+            point_method: PointMethod::default_for(info.device_type),
+            quads,
+            quad_format,
+            quad_target: None,
             moon: moon_pipelines(&device, &pipelines.layout),
             device,
             queue,
@@ -449,6 +562,51 @@ impl WgpuRenderer {
             store: pipeline("store"),
             layout,
         }
+    }
+
+    /// Chooses how stars and planets are drawn (default:
+    /// [`PointMethod::default_for`] the adapter).
+    pub fn set_point_method(&mut self, method: PointMethod) {
+        self.point_method = method;
+    }
+
+    /// How stars and planets are drawn.
+    pub fn point_method(&self) -> PointMethod {
+        self.point_method
+    }
+
+    /// The format of the point-source quad target: `Rgba32Float` where the
+    /// adapter offers `Features::FLOAT32_BLENDABLE` (requested then),
+    /// otherwise `Rgba16Float` (11-bit significand: each quad pass's sum
+    /// rounded to ≈ 5e-4 relative, radiance above 65504 cd/m² saturating).
+    pub fn quad_format(&self) -> wgpu::TextureFormat {
+        self.quad_format
+    }
+
+    /// Sets the point-source quad target's format: `Rgba16Float` (any
+    /// adapter) or `Rgba32Float` (where the device has
+    /// `Features::FLOAT32_BLENDABLE`, which [`Self::new`] requests when the
+    /// adapter offers it); other formats are refused. Recompiles the draw.
+    pub fn set_quad_format(&mut self, format: wgpu::TextureFormat) -> Result<(), RenderError> {
+        let ok = match format {
+            wgpu::TextureFormat::Rgba16Float => true,
+            wgpu::TextureFormat::Rgba32Float => self
+                .device
+                .features()
+                .contains(wgpu::Features::FLOAT32_BLENDABLE),
+            _ => false,
+        };
+        if !ok {
+            return Err(RenderError::Unavailable(format!(
+                "the point-source quads cannot blend into {format:?} on this adapter"
+            )));
+        }
+        if format != self.quad_format {
+            self.quads = quad_pipelines(&self.device, &self.pipelines.layout, format);
+            self.quad_format = format;
+            self.quad_target = None;
+        }
+        Ok(())
     }
 
     /// The device (to bind [`GpuFrame::texture`] in your own passes).
@@ -884,13 +1042,49 @@ impl WgpuRenderer {
             words: tile_words,
             tiles,
             busy,
+            ranges,
         } = point_lists(&cam, &[&star_plans, &planet_plans]);
         night_u.tiles = tiles;
         night_u.busy = [busy[0].0, busy[1].0, busy[0].1, busy[1].1];
         let active = [busy[0].1, busy[1].1];
         if let Some((p, _)) = star_plans.first().or(planet_plans.first()) {
-            night_u.psf = [p.r as f32, 0.0, p.inv2s2, 0.0];
+            night_u.psf = [p.r as f32, 0.0, p.inv2s2, 1.0];
         }
+        if self.quad_format != wgpu::TextureFormat::Rgba32Float {
+            night_u.psf[3] = quad_scale(&cam, star_plans.iter().chain(&planet_plans));
+        }
+        // Point sources as quads: a float target of the band's size (where
+        // the adapter's texture limit allows the image width).
+        let quads = self.point_method == PointMethod::Quads
+            && w <= limits.max_texture_dimension_2d
+            && (point_pass(Effect::Stars) || point_pass(Effect::Planets));
+        if quads {
+            let fits = self.quad_target.as_ref().is_some_and(|t| {
+                t.width() >= w && t.height() >= band_rows && t.format() == self.quad_format
+            });
+            if !fits {
+                self.quad_target = Some(self.device.create_texture(&wgpu::TextureDescriptor {
+                    label: Some("point-source quads"),
+                    size: wgpu::Extent3d {
+                        width: w,
+                        height: band_rows,
+                        depth_or_array_layers: 1,
+                    },
+                    mip_level_count: 1,
+                    sample_count: 1,
+                    dimension: wgpu::TextureDimension::D2,
+                    format: self.quad_format,
+                    usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                        | wgpu::TextureUsages::TEXTURE_BINDING,
+                    view_formats: &[],
+                }));
+            }
+        }
+        let quad_view = self
+            .quad_target
+            .as_ref()
+            .filter(|_| quads)
+            .map(|t| t.create_view(&Default::default()));
         let scope = self.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let dev = &self.device;
         let pool = &self.pool;
@@ -1024,12 +1218,58 @@ impl WgpuRenderer {
                 })
             })
             .collect();
+        // The quads' bind groups: per band the draw's (frame, night
+        // constants, records), and the target for the resolve pass.
+        let quad_binds = quad_view.as_ref().map(|view| {
+            let draws: Vec<wgpu::BindGroup> = (0..band_frames.len() as u64)
+                .map(|k| {
+                    let uniform = PoolBinding {
+                        buffer: frames_buf.buffer.clone(),
+                        offset: k * stride,
+                        size: std::mem::size_of::<FrameUniforms>() as u64,
+                    };
+                    dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                        label: Some("quads"),
+                        layout: &self.quads.draw_layout,
+                        entries: &[
+                            wgpu::BindGroupEntry {
+                                binding: 0,
+                                resource: uniform.resource(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 5,
+                                resource: night_buf.resource(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 8,
+                                resource: points_buf.resource(),
+                            },
+                            wgpu::BindGroupEntry {
+                                binding: 9,
+                                resource: tiles_buf.resource(),
+                            },
+                        ],
+                    })
+                })
+                .collect();
+            let target = dev.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("quad target"),
+                layout: &self.quads.target_layout,
+                entries: &[wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }],
+            });
+            (draws, target)
+        });
         // Passes back to front, then `store`, band by band.
         // Dispatch shape: 0 the band, 1 the Sun's rectangle, 2/3 the
         // stars'/planets' non-empty tiles, 4 the Moon's rectangle, 5 the
-        // corona's (part of the Sun pass). Each run adds its time to the
-        // pass statistic it names.
-        let mut runs: Vec<(String, &wgpu::ComputePipeline, u8, Option<usize>)> = Vec::new();
+        // corona's (part of the Sun pass), 6/7 the stars'/planets'
+        // non-empty tiles reading the quad target (group 1). Each run adds its time to the pass statistic it
+        // names; with quads, the stars' and planets' runs are their draw
+        // (a render pass, `None`) and its resolve.
+        let mut runs: Vec<(String, Option<&wgpu::ComputePipeline>, u8, Option<usize>)> = Vec::new();
         let mut stats = Vec::new();
         for planned in &state.passes {
             let culled = culled_reason(planned.effect);
@@ -1044,9 +1284,22 @@ impl WgpuRenderer {
                     _ => (&self.pipelines.sun, 1),
                 };
                 let stat = Some(stats.len());
-                runs.push((planned.effect.name().into(), p, shape, stat));
+                let name = planned.effect.name();
+                if quad_binds.is_some() && matches!(shape, 2 | 3) {
+                    runs.push((name.into(), None, shape, stat));
+                    let resolve = &self.quads.resolve[(shape - 2) as usize];
+                    runs.push((name.into(), Some(resolve), shape + 4, stat));
+                    stats.push(PassStat {
+                        name: name.into(),
+                        ran: run,
+                        ms: None,
+                        reason: planned.reason.clone().or(culled),
+                    });
+                    continue;
+                }
+                runs.push((name.into(), Some(p), shape, stat));
                 if planned.effect == Effect::Sun && corona_runs {
-                    runs.push(("corona".into(), &self.moon.corona, 5, stat));
+                    runs.push(("corona".into(), Some(&self.moon.corona), 5, stat));
                 }
             }
             stats.push(PassStat {
@@ -1065,7 +1318,7 @@ impl WgpuRenderer {
                 reason: state.moon.eclipse_reason.clone(),
             });
         }
-        runs.push(("store".into(), &self.pipelines.store, 0, None));
+        runs.push(("store".into(), Some(&self.pipelines.store), 0, None));
         let n_runs = runs.len();
         let queries = self.timestamps.then(|| {
             dev.create_query_set(&wgpu::QuerySetDescriptor {
@@ -1105,17 +1358,53 @@ impl WgpuRenderer {
                             y1.saturating_sub(y0).div_ceil(8),
                         )
                     }
-                    2 | 3 => {
+                    2 | 3 | 6 | 7 => {
                         // One 8 × 8 workgroup per non-empty tile, in rows
                         // of at most ACTIVE_ROW workgroups.
-                        let n = active[(*shape - 2) as usize];
+                        let n = active[((*shape - 2) % 4) as usize];
                         (n.min(ACTIVE_ROW), n.div_ceil(ACTIVE_ROW))
                     }
                     _ => (w.div_ceil(8), rows.div_ceil(8)),
                 };
                 let q = 2 * (b * n_runs + k) as u32;
                 let t0 = Clock::now();
-                {
+                if let (None, Some((draws, _)), Some(view)) = (pipeline, &quad_binds, &quad_view) {
+                    let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                        label: Some(name),
+                        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                            view,
+                            depth_slice: None,
+                            resolve_target: None,
+                            // The non-empty tiles are cleared by a draw.
+                            ops: wgpu::Operations {
+                                load: wgpu::LoadOp::Load,
+                                store: wgpu::StoreOp::Store,
+                            },
+                        })],
+                        depth_stencil_attachment: None,
+                        timestamp_writes: queries.as_ref().map(|qs| {
+                            wgpu::RenderPassTimestampWrites {
+                                query_set: qs,
+                                beginning_of_pass_write_index: Some(q),
+                                end_of_pass_write_index: Some(q + 1),
+                            }
+                        }),
+                        occlusion_query_set: None,
+                        multiview_mask: None,
+                    });
+                    pass.set_viewport(0.0, 0.0, w as f32, rows as f32, 0.0, 1.0);
+                    pass.set_bind_group(0, &draws[b], &[]);
+                    let (word, n) = busy[(*shape - 2) as usize];
+                    if n > 0 {
+                        pass.set_pipeline(&self.quads.clear);
+                        pass.draw(0..6, word..word + n);
+                    }
+                    pass.set_pipeline(&self.quads.draw);
+                    let (first, end) = ranges[(*shape - 2) as usize];
+                    if end > first {
+                        pass.draw(0..6, first..end);
+                    }
+                } else if let Some(pipeline) = pipeline {
                     let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
                         label: Some(name),
                         timestamp_writes: queries.as_ref().map(|qs| {
@@ -1130,6 +1419,9 @@ impl WgpuRenderer {
                     pass.set_bind_group(0, &binds[b], &[]);
                     if let (4 | 5, Some((mb, _, _))) = (shape, &moon_bind) {
                         pass.set_bind_group(1, mb, &[]);
+                    }
+                    if let (6 | 7, Some((_, target))) = (shape, &quad_binds) {
+                        pass.set_bind_group(1, target, &[]);
                     }
                     pass.dispatch_workgroups(g.0, g.1, 1);
                 }
@@ -1174,6 +1466,13 @@ impl WgpuRenderer {
             precompute_ms,
             lut_source,
             sky_view_ms,
+            points: if quads {
+                Some(PointMethod::Quads)
+            } else if point_pass(Effect::Stars) || point_pass(Effect::Planets) {
+                Some(PointMethod::Tiles)
+            } else {
+                None
+            },
         })
     }
 
@@ -1385,6 +1684,123 @@ fn compute_pipelines<'a>(
             compilation_options: Default::default(),
             cache: None,
         })
+    }
+}
+
+/// The point-source quads' pipelines (quads.wgsl): the instanced draw
+/// into a `format` target with additive blending (One, One), and the
+/// resolve pass that adds the target into `accum`.
+fn quad_pipelines(
+    device: &wgpu::Device,
+    sky: &wgpu::BindGroupLayout,
+    format: wgpu::TextureFormat,
+) -> QuadPipelines {
+    let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+        label: Some("quads.wgsl"),
+        source: wgpu::ShaderSource::Wgsl(uniforms::QUADS_WGSL.into()),
+    });
+    let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("quads"),
+        entries: &[
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..uniform_entry::<FrameUniforms>(0)
+            },
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..uniform_entry::<NightUniforms>(5)
+            },
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..storage_entry(8, true)
+            },
+            wgpu::BindGroupLayoutEntry {
+                visibility: vf,
+                ..storage_entry(9, true)
+            },
+        ],
+    });
+    let target_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("quad target"),
+        entries: &[wgpu::BindGroupLayoutEntry {
+            binding: 0,
+            visibility: wgpu::ShaderStages::COMPUTE,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        }],
+    });
+    let draw_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("quads"),
+        bind_group_layouts: &[Some(&draw_layout)],
+        immediate_size: 0,
+    });
+    let add = wgpu::BlendComponent {
+        src_factor: wgpu::BlendFactor::One,
+        dst_factor: wgpu::BlendFactor::One,
+        operation: wgpu::BlendOperation::Add,
+    };
+    let render = |vs: &str, fs: &str, blend: Option<wgpu::BlendState>| {
+        device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(fs),
+            layout: Some(&draw_pl),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some(vs),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: wgpu::MultisampleState::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some(fs),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format,
+                    blend,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            multiview_mask: None,
+            cache: None,
+        })
+    };
+    let draw = render(
+        "quad_vs",
+        "quad_fs",
+        Some(wgpu::BlendState {
+            color: add,
+            alpha: add,
+        }),
+    );
+    let clear = render("quad_clear_vs", "quad_clear_fs", None);
+    let resolve_pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some("quad resolve"),
+        bind_group_layouts: &[Some(sky), Some(&target_layout)],
+        immediate_size: 0,
+    });
+    let resolve = ["quad_resolve_stars", "quad_resolve_planets"].map(|entry| {
+        device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some(entry),
+            layout: Some(&resolve_pl),
+            module: &module,
+            entry_point: Some(entry),
+            compilation_options: Default::default(),
+            cache: None,
+        })
+    });
+    QuadPipelines {
+        draw_layout,
+        target_layout,
+        draw,
+        clear,
+        resolve,
     }
 }
 
@@ -1874,6 +2290,9 @@ pub struct PointLists {
     pub tiles: [u32; 4],
     /// Per list: the first word and the number of its non-empty tiles.
     pub busy: [(u32, u32); 2],
+    /// Per list: its records, `records[start..end]` (the instances of its
+    /// quads, [`PointMethod::Quads`]).
+    pub ranges: [(u32, u32); 2],
 }
 
 /// The point sources of the GPU's point passes: one [`PointRecord`] per
@@ -1898,7 +2317,9 @@ pub fn point_lists(
     let mut words = Vec::new();
     let mut bases = [0u32; 2];
     let mut active = [(0u32, 0u32); 2];
+    let mut ranges = [(0u32, 0u32); 2];
     for (l, plans) in lists.iter().enumerate() {
+        let start_record = records.len() as u32;
         let mut per_tile: Vec<Vec<u32>> = vec![Vec::new(); n_tiles];
         for (plan, rgb) in plans.iter() {
             let (cx, cy) = plan.pos;
@@ -1957,6 +2378,7 @@ pub fn point_lists(
                 .map(|(i, _)| i as u32),
         );
         active[l] = (first, words.len() as u32 - first);
+        ranges[l] = (start_record, records.len() as u32);
     }
     if records.is_empty() {
         records.push(bytemuck::Zeroable::zeroed());
@@ -1966,7 +2388,32 @@ pub fn point_lists(
         words,
         tiles: [POINT_TILE, tx as u32, bases[0], bases[1]],
         busy: active,
+        ranges,
     }
+}
+
+/// The scale of an rgba16float quad target (`NightUniforms::psf[3]`): the
+/// power of two that brings the largest footprint radiance — (core + glare
+/// scale) × the brightest colour channel / the solid angle of the pixel at
+/// the footprint's centre — near 2¹³, so that it stays below the format's
+/// 65504 and the faint stars above its subnormals (6.1 × 10⁻⁵; a star
+/// 10⁸ × fainter than the brightest source still gets a normal number).
+pub fn quad_scale<'a>(
+    cam: &Camera,
+    plans: impl Iterator<Item = &'a (himmel_skymodel::stars::SplatPlan, [f32; 3])>,
+) -> f32 {
+    let mut peak = 0.0f64;
+    for (p, rgb) in plans {
+        let omega = cam.pixel_solid_angle(p.pos.0, p.pos.1);
+        if omega > 0.0 {
+            let c = rgb.iter().fold(0.0f32, |m, v| m.max(*v)) as f64;
+            peak = peak.max((p.core_scale + p.glare_scale) as f64 * c / omega);
+        }
+    }
+    if !(peak > 0.0 && peak.is_finite()) {
+        return 1.0;
+    }
+    (2.0f64).powi((8192.0 / peak).log2().round().clamp(-120.0, 120.0) as i32) as f32
 }
 
 /// The pixel rectangle [x0, x1) × [y0, y1) that holds every pixel whose
@@ -2116,11 +2563,16 @@ mod tests {
     use himmel_skymodel::projection::enu_from_alt_az;
 
     /// The point passes run one workgroup per tile: their workgroup size
-    /// is the tile size.
+    /// is the tile size (the quads' resolve passes too).
     #[test]
     fn point_workgroups_are_tiles() {
         let module = naga::front::wgsl::parse_str(uniforms::SKY_WGSL).expect("sky.wgsl parses");
         for name in ["stars", "planets"] {
+            let e = module.entry_points.iter().find(|e| e.name == name).unwrap();
+            assert_eq!(e.workgroup_size, [POINT_TILE, POINT_TILE, 1], "{name}");
+        }
+        let module = naga::front::wgsl::parse_str(uniforms::QUADS_WGSL).expect("quads.wgsl parses");
+        for name in ["quad_resolve_stars", "quad_resolve_planets"] {
             let e = module.entry_points.iter().find(|e| e.name == name).unwrap();
             assert_eq!(e.workgroup_size, [POINT_TILE, POINT_TILE, 1], "{name}");
         }
@@ -2180,5 +2632,76 @@ mod tests {
                 }
             }
         }
+    }
+
+    fn plan(
+        x: f64,
+        y: f64,
+        core: f32,
+        glare_r: f32,
+    ) -> (himmel_skymodel::stars::SplatPlan, [f32; 3]) {
+        (
+            himmel_skymodel::stars::SplatPlan {
+                pos: (x, y),
+                face: 0,
+                near_horizon: false,
+                r: 2,
+                inv2s2: 1.0,
+                core_scale: core,
+                glare_r_px: glare_r,
+                glare_scale: 0.5 * core,
+            },
+            [1.0, 0.5, 0.25],
+        )
+    }
+
+    /// Each list's records are a contiguous range (the instances of its
+    /// quads): the stars' first, then the planets', one record per
+    /// footprint and equirect wrap.
+    #[test]
+    fn point_list_ranges_are_the_lists_records() {
+        let cam = Camera {
+            projection: Projection::Equirect,
+            width: 64,
+            height: 32,
+            ..Default::default()
+        };
+        let stars = [plan(10.5, 10.5, 1e-6, 0.0), plan(63.5, 16.0, 2e-6, 0.0)];
+        let planets = [plan(30.0, 20.0, 1e-4, 3.5)];
+        let l = point_lists(&cam, &[&stars, &planets]);
+        // The second star crosses the seam: two records.
+        assert_eq!(l.ranges, [(0, 3), (3, 4)]);
+        assert_eq!(l.records.len(), 4);
+        assert_eq!(l.records[3].a[3], 3.5);
+        let empty = point_lists(&cam, &[&[], &planets]);
+        assert_eq!(empty.ranges, [(0, 0), (0, 1)]);
+    }
+
+    /// The rgba16float target's scale is a power of two that brings the
+    /// largest footprint radiance to within a factor √2 of 2¹³; 1 without
+    /// sources.
+    #[test]
+    fn quad_scale_brings_the_peak_near_2_13() {
+        let cam = Camera {
+            projection: Projection::Fisheye,
+            width: 256,
+            height: 256,
+            ..Default::default()
+        };
+        for core in [1e-9f32, 1e-6, 1e-3, 10.0] {
+            let plans = [
+                plan(128.5, 128.5, core, 2.0),
+                plan(100.0, 90.0, core * 1e-3, 0.0),
+            ];
+            let k = quad_scale(&cam, plans.iter());
+            assert_eq!(k.log2().fract(), 0.0, "{k}");
+            let omega = cam.pixel_solid_angle(128.5, 128.5);
+            let peak = 1.5 * core as f64 / omega * k as f64;
+            assert!(
+                (8192.0 / 2f64.sqrt()..=8192.0 * 2f64.sqrt()).contains(&peak),
+                "{core}: {peak}"
+            );
+        }
+        assert_eq!(quad_scale(&cam, [].iter()), 1.0);
     }
 }

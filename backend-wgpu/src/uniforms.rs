@@ -108,7 +108,8 @@ pub struct NightUniforms {
     /// Point sources: tile size (px), tiles per row, first word of the
     /// stars' and of the planets' tile lists.
     pub tiles: [u32; 4],
-    /// Point sources: core radius r (px), reserved, 1 / (2σ²) (px⁻²), reserved.
+    /// Point sources: core radius r (px), reserved, 1 / (2σ²) (px⁻²), the
+    /// scale of the quad target (a power of two; 1 for rgba32float).
     pub psf: [f32; 4],
     /// Point sources: first word of the stars' and of the planets'
     /// non-empty tile indices, and their numbers.
@@ -208,6 +209,13 @@ pub const SKY_WGSL: &str = include_str!("shaders/sky.wgsl");
 pub const MOON_WGSL: &str = concat!(
     include_str!("shaders/sky.wgsl"),
     include_str!("shaders/moon.wgsl")
+);
+
+/// The WGSL source of the point sources as instanced quads: `sky.wgsl`
+/// followed by `quads.wgsl` (one module; the quad target in bind group 1).
+pub const QUADS_WGSL: &str = concat!(
+    include_str!("shaders/sky.wgsl"),
+    include_str!("shaders/quads.wgsl")
 );
 
 /// The WGSL source of the sky-view LUT passes: `skyview.wgsl` followed by
@@ -440,6 +448,29 @@ mod tests {
         .validate(&module)
         .expect("moon.wgsl validates");
         for e in ["moon_disk", "corona"] {
+            assert!(module.entry_points.iter().any(|p| p.name == e), "{e}");
+        }
+    }
+
+    /// sky.wgsl + quads.wgsl validate; the point-source quads have their
+    /// vertex, fragment and resolve entry points.
+    #[test]
+    fn quads_shader_validates() {
+        let module = naga::front::wgsl::parse_str(QUADS_WGSL).expect("quads.wgsl parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .expect("quads.wgsl validates");
+        for e in [
+            "quad_vs",
+            "quad_fs",
+            "quad_clear_vs",
+            "quad_clear_fs",
+            "quad_resolve_stars",
+            "quad_resolve_planets",
+        ] {
             assert!(module.entry_points.iter().any(|p| p.name == e), "{e}");
         }
     }

@@ -63,7 +63,8 @@ struct Night {
     // point sources: tile size (px), tiles per row, first word of the
     // stars' and of the planets' tile lists in `tiles`
     tiles: vec4<u32>,
-    // point sources: core radius r (px), reserved; 1 / (2σ²) (px⁻²), reserved
+    // point sources: core radius r (px), reserved; 1 / (2σ²) (px⁻²), the
+    // quad target's scale (quads.wgsl; a power of two, 1 for rgba32float)
     psf: vec4<f32>,
     // point sources: first word of the stars' and of the planets' non-empty
     // tile indices in `tiles`, and their numbers
@@ -413,10 +414,51 @@ fn pixel_omega(px: f32, py: f32) -> f32 {
     return s * s / (q * sqrt(q));
 }
 
-// Point sources (stars.rs `splat_at`): each pixel sums the footprints of
-// the sources listed for its 8 × 8 tile (no atomics): the Gaussian core
-// (weights normalised on the CPU) and the glare disk, over the pixel's
-// solid angle. One workgroup per non-empty tile (`busy` words on).
+// One point source's footprint at pixel (px, py) (centre fx, fy), as
+// radiance × solid angle (divide by the pixel's solid angle): stars.rs
+// `splat_at` — the Gaussian core (weights normalised on the CPU) and the
+// glare disk. `below`: the pixel shows the ground or nothing; `face`: the
+// pixel's cube face. Both point-source methods call it: the tiles
+// (`point_sources`) and the instanced quads (quads.wgsl `quad_fs`).
+fn point_footprint(s: Point, px: u32, py: u32, fx: f32, fy: f32, below: bool, face: i32) -> vec3<f32> {
+    if ((s.c.w != 0 && below) || (frame.size.z == 3u && s.c.z != face)) {
+        return vec3<f32>(0.0);
+    }
+    let r = i32(night.psf.x);
+    let rr = night.psf.x * night.psf.x + 0.5;
+    let inv2s2 = night.psf.z;
+    let di = i32(px) - s.c.x;
+    let dj = i32(py) - s.c.y;
+    let dx = fx - s.a.x;
+    let dy = fy - s.a.y;
+    let d2 = dx * dx + dy * dy;
+    var v = 0.0;
+    if (abs(di) <= r && abs(dj) <= r && d2 <= rr) {
+        v = s.a.z * exp(-(dx * dx) * inv2s2) * exp(-(dy * dy) * inv2s2);
+    }
+    let rg = s.a.w;
+    if (rg > 0.0) {
+        let dd = sqrt(d2);
+        let rgi = i32(ceil(rg));
+        if (abs(di) <= rgi && abs(dj) <= rgi && dd < rg) {
+            let x = 1.0 - dd / rg;
+            v = v + s.b.w * x * x;
+        }
+    }
+    return v * s.b.xyz;
+}
+
+// The cube face of strip column px (0 for the other projections).
+fn point_face(px: u32) -> i32 {
+    if (frame.size.z == 3u) {
+        return i32(px / frame.size.w);
+    }
+    return 0;
+}
+
+// Point sources, tiled: each pixel sums the footprints of the sources
+// listed for its 8 × 8 tile (no atomics) over the pixel's solid angle. One
+// workgroup per non-empty tile (`busy` words on).
 fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first: u32, n: u32) {
     let k = wg.y * nwg.x + wg.x;
     if (k >= n) {
@@ -442,38 +484,10 @@ fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first
     }
     let d = pixel_dir(fx, fy);
     let below = d.w == 0.0 || d.z < 0.0;
-    var face = 0;
-    if (frame.size.z == 3u) {
-        face = i32(px / frame.size.w);
-    }
-    let r = i32(night.psf.x);
-    let rr = night.psf.x * night.psf.x + 0.5;
-    let inv2s2 = night.psf.z;
+    let face = point_face(px);
     var acc = vec3<f32>(0.0);
     for (var k = s0; k < s1; k = k + 1u) {
-        let s = points[tiles[k]];
-        if ((s.c.w != 0 && below) || (frame.size.z == 3u && s.c.z != face)) {
-            continue;
-        }
-        let di = i32(px) - s.c.x;
-        let dj = i32(py) - s.c.y;
-        let dx = fx - s.a.x;
-        let dy = fy - s.a.y;
-        let d2 = dx * dx + dy * dy;
-        var v = 0.0;
-        if (abs(di) <= r && abs(dj) <= r && d2 <= rr) {
-            v = s.a.z * exp(-(dx * dx) * inv2s2) * exp(-(dy * dy) * inv2s2);
-        }
-        let rg = s.a.w;
-        if (rg > 0.0) {
-            let dd = sqrt(d2);
-            let rgi = i32(ceil(rg));
-            if (abs(di) <= rgi && abs(dj) <= rgi && dd < rg) {
-                let x = 1.0 - dd / rg;
-                v = v + s.b.w * x * x;
-            }
-        }
-        acc = acc + v * s.b.xyz;
+        acc = acc + point_footprint(points[tiles[k]], px, py, fx, fy, below, face);
     }
     let i = (py - frame.band.x) * frame.size.x + px;
     accum[i] = accum[i] + vec4<f32>(acc / omega, 0.0);

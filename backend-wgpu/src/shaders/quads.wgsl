@@ -1,0 +1,146 @@
+
+// ---- quads.wgsl (compiled after sky.wgsl in one module) ----------------
+//
+// Point sources as instanced quads (`PointMethod::Quads`): one instance per
+// footprint record (`points`, the same records as the tiled passes), six
+// vertices per instance (two triangles, no geometry shader) covering the
+// record's pixel bounds — the core's (2r + 1)² pixels and the glare disk's
+// — within the current band (and, in a cube map, within the record's
+// face); the fragment shader evaluates `point_footprint` (sky.wgsl) at the
+// pixel and returns radiance, added by the blend state (One, One) into a
+// float target of the band's size. `quad_resolve_*` then adds that target
+// into `accum` at the pass's place in the pass order.
+
+// The quad target of the band, read by `quad_resolve`.
+@group(1) @binding(0) var quad_src: texture_2d<f32>;
+
+struct QuadOut {
+    @builtin(position) pos: vec4<f32>,
+    @location(0) @interpolate(flat) id: u32,
+}
+
+@vertex
+fn quad_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) id: u32) -> QuadOut {
+    let s = points[id];
+    var reach = i32(night.psf.x);
+    if (s.a.w > 0.0) {
+        reach = max(reach, i32(ceil(s.a.w)));
+    }
+    // Pixel edges: the pixels c − reach ..= c + reach.
+    var x0 = f32(s.c.x - reach);
+    var x1 = f32(s.c.x + reach + 1);
+    if (frame.size.z == 3u) {
+        // A footprint stays on its face.
+        let fs = f32(frame.size.w);
+        x0 = max(x0, f32(s.c.z) * fs);
+        x1 = min(x1, f32(s.c.z + 1) * fs);
+    }
+    let y0 = f32(s.c.y - reach) - f32(frame.band.x);
+    let y1 = f32(s.c.y + reach + 1) - f32(frame.band.x);
+    // Two triangles: (0, 0) (1, 0) (0, 1), (0, 1) (1, 0) (1, 1).
+    let cx = array<f32, 6>(0.0, 1.0, 0.0, 0.0, 1.0, 1.0);
+    let cy = array<f32, 6>(0.0, 0.0, 1.0, 1.0, 0.0, 1.0);
+    let x = mix(x0, x1, cx[v % 6u]);
+    let y = mix(y0, y1, cy[v % 6u]);
+    var out: QuadOut;
+    out.pos = vec4<f32>(
+        2.0 * x / f32(frame.size.x) - 1.0,
+        1.0 - 2.0 * y / f32(frame.band.y),
+        0.0,
+        1.0,
+    );
+    out.id = id;
+    return out;
+}
+
+// Clears the list's non-empty 8 × 8 tiles of the target (drawn before the
+// footprints with blending off; the resolve reads exactly these tiles):
+// one instance per tile, `instance_index` = the word of `tiles` holding the
+// tile's index, so that no full-target clear is needed.
+@vertex
+fn quad_clear_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) word: u32) -> QuadOut {
+    let t = tiles[word];
+    let ts = night.tiles.x;
+    let x0 = f32((t % night.tiles.y) * ts);
+    let y0 = f32((t / night.tiles.y) * ts) - f32(frame.band.x);
+    let cx = array<f32, 6>(0.0, 1.0, 0.0, 0.0, 1.0, 1.0);
+    let cy = array<f32, 6>(0.0, 0.0, 1.0, 1.0, 0.0, 1.0);
+    let x = x0 + f32(ts) * cx[v % 6u];
+    let y = y0 + f32(ts) * cy[v % 6u];
+    var out: QuadOut;
+    out.pos = vec4<f32>(
+        2.0 * x / f32(frame.size.x) - 1.0,
+        1.0 - 2.0 * y / f32(frame.band.y),
+        0.0,
+        1.0,
+    );
+    out.id = t;
+    return out;
+}
+
+@fragment
+fn quad_clear_fs(q: QuadOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(0.0);
+}
+
+@fragment
+fn quad_fs(q: QuadOut) -> @location(0) vec4<f32> {
+    // The fragment position is the pixel centre (band rows).
+    let px = u32(q.pos.x);
+    let py = u32(q.pos.y) + frame.band.x;
+    let fx = f32(px) + 0.5;
+    let fy = f32(py) + 0.5;
+    let omega = pixel_omega(fx, fy);
+    if (omega <= 0.0) {
+        discard;
+    }
+    let s = points[q.id];
+    var below = false;
+    if (s.c.w != 0) {
+        let d = pixel_dir(fx, fy);
+        below = d.w == 0.0 || d.z < 0.0;
+    }
+    // × the target's scale (rgba16float: the brightest footprint near
+    // 2¹³, far from its overflow at 65504 and its subnormals below 6e-5).
+    let l = point_footprint(s, px, py, fx, fy, below, point_face(px)) / omega;
+    return vec4<f32>(l * night.psf.w, 0.0);
+}
+
+// Adds the band's quad target into `accum` over the list's non-empty
+// 8 × 8 tiles (every quad lies within the tiles its record is listed in):
+// one workgroup per tile, as the tiled passes (sky.wgsl `point_sources`).
+fn quad_resolve(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, first: u32, n: u32) {
+    let k = wg.y * nwg.x + wg.x;
+    if (k >= n) {
+        return;
+    }
+    let t = tiles[first + k];
+    let ts = night.tiles.x;
+    let px = (t % night.tiles.y) * ts + lid.x;
+    let py = (t / night.tiles.y) * ts + lid.y;
+    if (px >= frame.size.x || py < frame.band.x || py >= frame.band.x + frame.band.y) {
+        return;
+    }
+    let y = py - frame.band.x;
+    let i = y * frame.size.x + px;
+    let l = textureLoad(quad_src, vec2<u32>(px, y), 0);
+    accum[i] = accum[i] + vec4<f32>(l.xyz / night.psf.w, 0.0);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn quad_resolve_stars(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    quad_resolve(wg, nwg, lid, night.busy.x, night.busy.z);
+}
+
+@compute @workgroup_size(8, 8, 1)
+fn quad_resolve_planets(
+    @builtin(workgroup_id) wg: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+    @builtin(local_invocation_id) lid: vec3<u32>,
+) {
+    quad_resolve(wg, nwg, lid, night.busy.y, night.busy.w);
+}
