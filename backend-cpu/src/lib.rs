@@ -497,15 +497,7 @@ impl SkyRenderer for CpuRenderer {
                 reason: None,
             });
         }
-        if state.runs(Effect::Moon) {
-            // The lunar-eclipse shading is part of the Moon pass; say whether it ran.
-            stats.push(PassStat {
-                name: "moon-eclipse".into(),
-                ran: state.moon.eclipse.is_some(),
-                ms: None,
-                reason: state.moon.eclipse_reason.clone(),
-            });
-        }
+        stats.extend(PassStat::moon_eclipse(state));
         Ok(RenderOutput {
             image: HdrImage {
                 width: w,

@@ -26,15 +26,7 @@ pub fn render(
     luts: Option<&AtmosphereLuts>,
     r0: f32,
 ) {
-    let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
-    let shader = MoonShader::new(
-        &state.moon,
-        scene.moon_scale,
-        luts,
-        r0,
-        pole,
-        &scene.atmosphere,
-    );
+    let shader = MoonShader::for_frame(scene, state, luts, r0);
     let cam: &Camera = &scene.camera;
     let pixel = local_pixel_angle(cam, shader.centre.as_dvec3()) as f32;
     let cos_bound = shader.cos_bound(limb_margin(pixel));

@@ -980,20 +980,12 @@ impl WgpuRenderer {
                 wgpu::BufferUsages::UNIFORM,
             );
             let maps_buf = &self.moon_maps.as_ref().expect("uploaded").0;
-            let bind = self.device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("moon"),
-                layout: &self.moon.layout,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: uniform.resource(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: maps_buf.as_entire_binding(),
-                    },
-                ],
-            });
+            let bind = bind_group(
+                &self.device,
+                "moon",
+                &self.moon.layout,
+                &[uniform.resource(), maps_buf.as_entire_binding()],
+            );
             Some((bind, mu.rect, mu.corona_rect))
         } else {
             None
@@ -1170,52 +1162,23 @@ impl WgpuRenderer {
                     offset: 0,
                     size: accum_size,
                 };
-                dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                    label: Some("sky"),
-                    layout: &self.pipelines.layout,
-                    entries: &[
-                        wgpu::BindGroupEntry {
-                            binding: 0,
-                            resource: uniform.resource(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 1,
-                            resource: accum.resource(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 2,
-                            resource: sky.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 3,
-                            resource: sun_buf.resource(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 4,
-                            resource: wgpu::BindingResource::TextureView(&view),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 5,
-                            resource: night_buf.resource(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 6,
-                            resource: map_buf.as_entire_binding(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 7,
-                            resource: ext_buf.resource(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 8,
-                            resource: points_buf.resource(),
-                        },
-                        wgpu::BindGroupEntry {
-                            binding: 9,
-                            resource: tiles_buf.resource(),
-                        },
+                bind_group(
+                    dev,
+                    "sky",
+                    &self.pipelines.layout,
+                    &[
+                        uniform.resource(),
+                        accum.resource(),
+                        sky.as_entire_binding(),
+                        sun_buf.resource(),
+                        wgpu::BindingResource::TextureView(&view),
+                        night_buf.resource(),
+                        map_buf.as_entire_binding(),
+                        ext_buf.resource(),
+                        points_buf.resource(),
+                        tiles_buf.resource(),
                     ],
-                })
+                )
             })
             .collect();
         // The quads' bind groups: per band the draw's (frame, night
@@ -1252,14 +1215,12 @@ impl WgpuRenderer {
                     })
                 })
                 .collect();
-            let target = dev.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("quad target"),
-                layout: &self.quads.target_layout,
-                entries: &[wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(view),
-                }],
-            });
+            let target = bind_group(
+                dev,
+                "quad target",
+                &self.quads.target_layout,
+                &[wgpu::BindingResource::TextureView(view)],
+            );
             (draws, target)
         });
         // Passes back to front, then `store`, band by band.
@@ -1309,15 +1270,7 @@ impl WgpuRenderer {
                 reason: planned.reason.clone().or(culled),
             });
         }
-        if state.runs(Effect::Moon) {
-            // The lunar-eclipse shading is part of the Moon pass (cpu lib.rs).
-            stats.push(PassStat {
-                name: "moon-eclipse".into(),
-                ran: state.moon.eclipse.is_some(),
-                ms: None,
-                reason: state.moon.eclipse_reason.clone(),
-            });
-        }
+        stats.extend(PassStat::moon_eclipse(state));
         runs.push(("store".into(), Some(&self.pipelines.store), 0, None));
         let n_runs = runs.len();
         let queries = self.timestamps.then(|| {
@@ -1635,6 +1588,28 @@ impl WgpuRenderer {
     }
 }
 
+/// A bind group whose entries are `resources` at bindings 0, 1, 2, …
+fn bind_group(
+    dev: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[wgpu::BindingResource],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = resources
+        .iter()
+        .enumerate()
+        .map(|(k, r)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            resource: r.clone(),
+        })
+        .collect();
+    dev.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
 fn storage_entry(binding: u32, read_only: bool) -> wgpu::BindGroupLayoutEntry {
     wgpu::BindGroupLayoutEntry {
         binding,
@@ -1882,15 +1857,7 @@ pub fn moon_uniforms(
     };
     let r0 = luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
     if state.runs(Effect::Moon) {
-        let pole = DVec3::from_array(state.celestial_pole).as_vec3();
-        let shader = MoonShader::new(
-            &state.moon,
-            scene.moon_scale,
-            luts,
-            r0,
-            pole,
-            &scene.atmosphere,
-        );
+        let shader = MoonShader::for_frame(scene, state, luts, r0);
         let p = shader.parts();
         let pixel = himmel_cpu::moon_pass::local_pixel_angle(cam, p.centre.as_dvec3()) as f32;
         let margin = himmel_cpu::moon_pass::limb_margin(pixel);
@@ -2146,32 +2113,18 @@ fn gpu_sky_view(
                         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
                         mapped_at_creation: false,
                     });
-                    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                        label: Some("sky view"),
-                        layout: &p.layout,
-                        entries: &[
-                            wgpu::BindGroupEntry {
-                                binding: 0,
-                                resource: uniform.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 1,
-                                resource: gl.trans.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 2,
-                                resource: gl.trans_s.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 3,
-                                resource: gl.multi.as_entire_binding(),
-                            },
-                            wgpu::BindGroupEntry {
-                                binding: 4,
-                                resource: sky.as_entire_binding(),
-                            },
+                    let bind = bind_group(
+                        device,
+                        "sky view",
+                        &p.layout,
+                        &[
+                            uniform.as_entire_binding(),
+                            gl.trans.as_entire_binding(),
+                            gl.trans_s.as_entire_binding(),
+                            gl.multi.as_entire_binding(),
+                            sky.as_entire_binding(),
                         ],
-                    });
+                    );
                     (uniform, sky, bind)
                 })
                 .collect();

@@ -17,7 +17,7 @@ use himmel_skymodel::renderer::RenderError;
 use himmel_skymodel::spectrum::{Spectrum, BANDS};
 use wgpu::util::DeviceExt;
 
-use crate::{band_groups, storage_entry, uniform_entry};
+use crate::{band_groups, bind_group, storage_entry, uniform_entry};
 
 /// The WGSL source of the LUT passes: `luts.wgsl` followed by the medium
 /// functions it shares with the sky-view passes (`medium.wgsl`).
@@ -244,32 +244,18 @@ pub fn dispatch(
         contents: bytemuck::cast_slice(&dirs),
         usage: wgpu::BufferUsages::STORAGE,
     });
-    let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("atmosphere LUTs"),
-        layout: &p.layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: uniform.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: bufs.trans.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 2,
-                resource: bufs.trans_s.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 3,
-                resource: bufs.multi.as_entire_binding(),
-            },
-            wgpu::BindGroupEntry {
-                binding: 4,
-                resource: dir_buf.as_entire_binding(),
-            },
+    let bind = bind_group(
+        device,
+        "atmosphere LUTs",
+        &p.layout,
+        &[
+            uniform.as_entire_binding(),
+            bufs.trans.as_entire_binding(),
+            bufs.trans_s.as_entire_binding(),
+            bufs.multi.as_entire_binding(),
+            dir_buf.as_entire_binding(),
         ],
-    });
+    );
     let mut enc = device.create_command_encoder(&Default::default());
     {
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {

@@ -17,22 +17,15 @@
 //! same bound holds for it. The 99th percentiles (τ ≲ 1 for most texels)
 //! must stay below 1e-3.
 
-use std::sync::{Mutex, OnceLock};
-
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, Lut2, LutConfig, Medium};
-use himmel_skymodel::camera::{develop, CameraSettings, Exposure};
 use himmel_skymodel::spectrum::{luminance, Spectrum};
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
 use himmel_wgpu::luts::{self, LutPipelines};
-use himmel_wgpu::{LutSource, WgpuRenderer};
+use himmel_wgpu::LutSource;
 
-fn gpu() -> std::sync::MutexGuard<'static, WgpuRenderer> {
-    static R: OnceLock<Mutex<WgpuRenderer>> = OnceLock::new();
-    R.get_or_init(|| Mutex::new(WgpuRenderer::new(None).expect("a wgpu adapter (lavapipe in CI)")))
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-}
+mod common;
+use common::{gpu, percentile, psnr};
 
 /// κ of the module documentation: the relative aerosol-density change of
 /// one ulp of r² at the ground.
@@ -61,10 +54,6 @@ fn rel_diffs(label: &str, c: &Lut2<Spectrum>, g: &Lut2<Spectrum>) -> Vec<f64> {
     }
     d.sort_by(|a, b| a.total_cmp(b));
     d
-}
-
-fn percentile(sorted: &[f64], q: f64) -> f64 {
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
 }
 
 /// Compares the three LUTs; returns (max, p99) of the relative differences
@@ -230,31 +219,6 @@ fn image_diffs(cpu: &HdrImage, gpu: &HdrImage) -> Vec<f64> {
         .collect();
     d.sort_by(|a, b| a.total_cmp(b));
     d
-}
-
-/// PSNR (dB) of the developed 8-bit images over the valid pixels.
-fn psnr(cpu: &HdrImage, gpu: &HdrImage) -> f64 {
-    let settings = CameraSettings {
-        exposure: Exposure::Auto,
-        night_vision: false,
-        dither: false,
-    };
-    let (a, _) = develop(cpu.width, &cpu.pixels, &cpu.valid, &settings);
-    let (b, _) = develop(gpu.width, &gpu.pixels, &gpu.valid, &settings);
-    let (mut se, mut n) = (0.0f64, 0usize);
-    for (i, v) in cpu.valid.iter().enumerate() {
-        if *v {
-            for c in 0..3 {
-                let d = a[3 * i + c] as f64 - b[3 * i + c] as f64;
-                se += d * d;
-                n += 1;
-            }
-        }
-    }
-    if se == 0.0 {
-        return f64::INFINITY;
-    }
-    10.0 * (255.0f64 * 255.0 / (se / n as f64)).log10()
 }
 
 /// Renders `s` on the CPU backend and on wgpu with GPU LUTs (twice: the

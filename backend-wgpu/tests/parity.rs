@@ -4,22 +4,14 @@
 //! and the tone-mapped 8-bit images (camera model, auto exposure) with
 //! PSNR ≥ 35 dB. Runs on any adapter (lavapipe in CI).
 
-use std::sync::{Mutex, OnceLock};
-
 use glam::DVec3;
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::LutConfig;
-use himmel_skymodel::camera::{develop, CameraSettings, Exposure};
 use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
-use himmel_wgpu::WgpuRenderer;
 
-fn gpu() -> std::sync::MutexGuard<'static, WgpuRenderer> {
-    static R: OnceLock<Mutex<WgpuRenderer>> = OnceLock::new();
-    R.get_or_init(|| Mutex::new(WgpuRenderer::new(None).expect("a wgpu adapter (lavapipe in CI)")))
-        .lock()
-        .unwrap_or_else(|e| e.into_inner())
-}
+mod common;
+use common::{gpu, peaks, percentile, psnr, rel_diffs};
 
 fn scene(utc: &str, p: Projection, w: u32, h: u32) -> Scene {
     let mut s = Scene::default();
@@ -32,58 +24,6 @@ fn scene(utc: &str, p: Projection, w: u32, h: u32) -> Scene {
     s.camera.height = h;
     s.lut = LutConfig::small();
     s
-}
-
-/// Relative luminance differences over the pixels valid in both images.
-fn rel_diffs(cpu: &HdrImage, gpu: &HdrImage) -> Vec<f64> {
-    let mut d: Vec<f64> = cpu
-        .pixels
-        .iter()
-        .zip(&gpu.pixels)
-        .zip(cpu.valid.iter().zip(&gpu.valid))
-        .filter(|(_, (a, b))| **a && **b)
-        .map(|((c, g), _)| {
-            let (yc, yg) = (luminance(*c) as f64, luminance(*g) as f64);
-            if yc > 0.0 {
-                (yg - yc).abs() / yc
-            } else if yg == 0.0 {
-                0.0
-            } else {
-                1.0
-            }
-        })
-        .collect();
-    d.sort_by(|a, b| a.total_cmp(b));
-    d
-}
-
-fn percentile(sorted: &[f64], q: f64) -> f64 {
-    sorted[((sorted.len() - 1) as f64 * q).round() as usize]
-}
-
-/// PSNR (dB) of the developed 8-bit images over the valid pixels.
-fn psnr(cpu: &HdrImage, gpu: &HdrImage) -> f64 {
-    let settings = CameraSettings {
-        exposure: Exposure::Auto,
-        night_vision: false,
-        dither: false,
-    };
-    let (a, _) = develop(cpu.width, &cpu.pixels, &cpu.valid, &settings);
-    let (b, _) = develop(gpu.width, &gpu.pixels, &gpu.valid, &settings);
-    let (mut se, mut n) = (0.0f64, 0usize);
-    for (i, v) in cpu.valid.iter().enumerate() {
-        if *v {
-            for c in 0..3 {
-                let d = a[3 * i + c] as f64 - b[3 * i + c] as f64;
-                se += d * d;
-                n += 1;
-            }
-        }
-    }
-    if se == 0.0 {
-        return f64::INFINITY;
-    }
-    10.0 * (255.0f64 * 255.0 / (se / n as f64)).log10()
 }
 
 /// Renders `s` through both backends (the wgpu one with its sky view on
@@ -453,36 +393,6 @@ fn dark_night_milky_way_equirect() {
     let (c, g) = parity("dark night, Milky Way, equirect", &s);
     milkyway_within_one_percent(&c, &g);
     milkyway_ran_and_dominates(&s, &state, &g);
-}
-
-/// Pixels that are strict local maxima of luminance (3 × 3) at least
-/// `k` × the image's median luminance, brightest first.
-fn peaks(img: &HdrImage, k: f32) -> Vec<(usize, usize, f32)> {
-    let (w, h) = (img.width, img.height);
-    let y: Vec<f32> = img.pixels.iter().map(|p| luminance(*p)).collect();
-    let mut sorted = y.clone();
-    sorted.sort_by(|a, b| a.total_cmp(b));
-    let floor = sorted[sorted.len() / 2] * k;
-    let mut out = Vec::new();
-    for j in 1..h - 1 {
-        for i in 1..w - 1 {
-            let v = y[j * w + i];
-            if v <= floor || !img.valid[j * w + i] {
-                continue;
-            }
-            let local_max = (-1i64..=1).all(|dj| {
-                (-1i64..=1).all(|di| {
-                    (di == 0 && dj == 0)
-                        || y[((j as i64 + dj) as usize) * w + (i as i64 + di) as usize] < v
-                })
-            });
-            if local_max {
-                out.push((i, j, v));
-            }
-        }
-    }
-    out.sort_by(|a, b| b.2.total_cmp(&a.2));
-    out
 }
 
 /// Stars and planets on a dark night: the footprints are evaluated per

@@ -808,6 +808,27 @@ struct EclipseShader {
 }
 
 impl MoonShader {
+    /// The shader for the frame's Moon as the Moon passes draw it: the
+    /// scene's `moon_scale`, its atmosphere, the state's celestial pole,
+    /// seen from radius `r0` (km) through `luts` when the atmosphere runs
+    /// ([`MoonShader::new`]).
+    pub fn for_frame(
+        scene: &crate::Scene,
+        state: &crate::SkyState,
+        luts: Option<&AtmosphereLuts>,
+        r0: f32,
+    ) -> MoonShader {
+        let pole = DVec3::from_array(state.celestial_pole).as_vec3();
+        MoonShader::new(
+            &state.moon,
+            scene.moon_scale,
+            luts,
+            r0,
+            pole,
+            &scene.atmosphere,
+        )
+    }
+
     /// The shader for `moon` drawn `scale` times its true size; with
     /// `luts` the extinction along the line of sight from radius `r0` (km
     /// from the Earth's centre) is applied; `celestial_pole` is the ENU

@@ -34,6 +34,20 @@ pub struct PassStat {
     pub reason: Option<String>,
 }
 
+impl PassStat {
+    /// The `moon-eclipse` entry both backends list after the passes when
+    /// the Moon pass is planned: the lunar-eclipse shading is part of the
+    /// Moon pass, and this says whether it ran, or why not.
+    pub fn moon_eclipse(state: &SkyState) -> Option<PassStat> {
+        state.runs(crate::Effect::Moon).then(|| PassStat {
+            name: "moon-eclipse".into(),
+            ran: state.moon.eclipse.is_some(),
+            ms: None,
+            reason: state.moon.eclipse_reason.clone(),
+        })
+    }
+}
+
 /// A rendered frame with its statistics.
 #[derive(Debug, Clone)]
 pub struct RenderOutput {
