@@ -963,7 +963,7 @@ impl WgpuRenderer {
         let moon_runs = state.runs(Effect::Moon);
         let corona_runs = state.runs(Effect::Sun) && state.sun.visible_fraction < 1.0;
         let moon_bind = if moon_runs || corona_runs {
-            let maps = self.upload_moon_maps();
+            let (maps_buf, maps) = self.upload_moon_maps();
             let luts = if atmosphere {
                 Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
             } else {
@@ -979,7 +979,6 @@ impl WgpuRenderer {
                 &bytes,
                 wgpu::BufferUsages::UNIFORM,
             );
-            let maps_buf = &self.moon_maps.as_ref().expect("uploaded").0;
             let bind = bind_group(
                 &self.device,
                 "moon",
@@ -1463,10 +1462,10 @@ impl WgpuRenderer {
     }
 
     /// Uploads the lunar albedo map followed by the normal map's (east,
-    /// north) pairs (once); returns `MoonUniforms.maps`.
-    fn upload_moon_maps(&mut self) -> [u32; 4] {
-        if let Some((_, dims)) = &self.moon_maps {
-            return *dims;
+    /// north) pairs (once); returns the buffer and `MoonUniforms.maps`.
+    fn upload_moon_maps(&mut self) -> (wgpu::Buffer, [u32; 4]) {
+        if let Some((buf, dims)) = &self.moon_maps {
+            return (buf.clone(), *dims);
         }
         use himmel_skymodel::moon::{AlbedoMap, NormalMap};
         let (a, n) = (AlbedoMap::get(), NormalMap::get());
@@ -1480,8 +1479,8 @@ impl WgpuRenderer {
                 usage: wgpu::BufferUsages::STORAGE,
             });
         let dims = [a.w as u32, a.h as u32, n.w as u32, n.h as u32];
-        self.moon_maps = Some((buf, dims));
-        dims
+        self.moon_maps = Some((buf.clone(), dims));
+        (buf, dims)
     }
 
     fn wait(&self) -> Result<(), RenderError> {

@@ -23,7 +23,8 @@ use crate::{band_groups, bind_group, storage_entry, uniform_entry};
 /// functions it shares with the sky-view passes (`medium.wgsl`).
 pub const LUTS_WGSL: &str = concat!(
     include_str!("shaders/luts.wgsl"),
-    include_str!("shaders/medium.wgsl")
+    include_str!("shaders/medium.wgsl"),
+    include_str!("shaders/bilinear.wgsl")
 );
 
 /// Where [`crate::WgpuRenderer`] takes the parameter-dependent LUTs from.

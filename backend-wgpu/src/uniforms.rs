@@ -201,20 +201,26 @@ const _: () = assert!(MOON_ECL + himmel_skymodel::moon::ECLIPSE_TABLE_N <= MOON_
 const _: () = assert!(MOON_COR + MOON_COR_N == MOON_TABLE_ROWS);
 const _: () = assert!(std::mem::size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS <= 65536);
 
-/// The WGSL source of the image passes.
-pub const SKY_WGSL: &str = include_str!("shaders/sky.wgsl");
+/// The WGSL source of the image passes: `sky.wgsl` and the bilinear
+/// lookup it shares with the LUT passes (`bilinear.wgsl`).
+pub const SKY_WGSL: &str = concat!(
+    include_str!("shaders/sky.wgsl"),
+    include_str!("shaders/bilinear.wgsl")
+);
 
-/// The WGSL source of the Moon and corona passes: `sky.wgsl` followed by
+/// The WGSL source of the Moon and corona passes: [`SKY_WGSL`] followed by
 /// `moon.wgsl` (one module; its own bind group 1).
 pub const MOON_WGSL: &str = concat!(
     include_str!("shaders/sky.wgsl"),
+    include_str!("shaders/bilinear.wgsl"),
     include_str!("shaders/moon.wgsl")
 );
 
-/// The WGSL source of the point sources as instanced quads: `sky.wgsl`
+/// The WGSL source of the point sources as instanced quads: [`SKY_WGSL`]
 /// followed by `quads.wgsl` (one module; the quad target in bind group 1).
 pub const QUADS_WGSL: &str = concat!(
     include_str!("shaders/sky.wgsl"),
+    include_str!("shaders/bilinear.wgsl"),
     include_str!("shaders/quads.wgsl")
 );
 
@@ -222,7 +228,8 @@ pub const QUADS_WGSL: &str = concat!(
 /// the medium functions it shares with the LUT passes (`medium.wgsl`).
 pub const SKYVIEW_WGSL: &str = concat!(
     include_str!("shaders/skyview.wgsl"),
-    include_str!("shaders/medium.wgsl")
+    include_str!("shaders/medium.wgsl"),
+    include_str!("shaders/bilinear.wgsl")
 );
 
 #[cfg(test)]

@@ -118,18 +118,13 @@ fn sun_transmittance_s(r: f32, mu_s: f32, vis: f32) -> array<vec4<f32>, 3> {
     let x_r = clamp(rho / hh, 0.0, 1.0);
     let u = tex_from_unit(x_mu, w);
     let v = tex_from_unit(x_r, h);
-    let x = clamp(u * f32(w) - 0.5, 0.0, f32(w - 1u));
-    let y = clamp(v * f32(h) - 0.5, 0.0, f32(h - 1u));
-    let x0 = u32(x);
-    let y0 = u32(y);
-    let fx = x - f32(x0);
-    let fy = y - f32(y0);
-    let x1 = min(x0 + 1u, w - 1u);
-    let y1 = min(y0 + 1u, h - 1u);
-    let i00 = (y0 * w + x0) * 3u;
-    let i01 = (y0 * w + x1) * 3u;
-    let i10 = (y1 * w + x0) * 3u;
-    let i11 = (y1 * w + x1) * 3u;
+    let bl = bilinear(u, v, w, h);
+    let fx = bl.f.x;
+    let fy = bl.f.y;
+    let i00 = bl.i.x * 3u;
+    let i01 = bl.i.y * 3u;
+    let i10 = bl.i.z * 3u;
+    let i11 = bl.i.w * 3u;
     var out: array<vec4<f32>, 3>;
     for (var k = 0u; k < 3u; k = k + 1u) {
         let a = trans_s[i00 + k] * (1.0 - fx) + trans_s[i01 + k] * fx;

@@ -267,15 +267,25 @@ fn moon_supersample(px: u32, py: u32, n: u32) -> vec4<f32> {
     return vec4<f32>(acc / f32(hits), f32(hits) / f32(n * n));
 }
 
+// The pixel (x, y) of invocation `gid` of a dispatch over the pixel
+// rectangle `rect` [x0, y0, x1, y1) ∩ this band, and z = 1 when it lies
+// inside (0 for the workgroups' overhang).
+fn rect_pixel(gid: vec3<u32>, rect: vec4<u32>) -> vec3<u32> {
+    let px = gid.x + rect.x;
+    let py = gid.y + max(rect.y, frame.band.x);
+    let inside = px < rect.z && py < min(rect.w, frame.band.x + frame.band.y);
+    return vec3<u32>(px, py, select(0u, 1u, inside));
+}
+
 // Moon pass (moon_pass.rs `render`): the opaque disk replaces what the
 // earlier passes (Milky Way, stars, planets) drew, by its coverage.
 // Dispatched over the disk's rectangle ∩ this band.
 @compute @workgroup_size(8, 8, 1)
 fn moon_disk(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let y0 = max(moon.rect.y, frame.band.x);
-    let px = gid.x + moon.rect.x;
-    let py = gid.y + y0;
-    if (px >= moon.rect.z || py >= min(moon.rect.w, frame.band.x + frame.band.y)) {
+    let p = rect_pixel(gid, moon.rect);
+    let px = p.x;
+    let py = p.y;
+    if (p.z == 0u) {
         return;
     }
     let d4 = pixel_dir(f32(px) + 0.5, f32(py) + 0.5);
@@ -320,10 +330,10 @@ fn corona_relative(r: f32) -> f32 {
 // zenith cosine), hidden by the Moon's anti-aliased disk.
 @compute @workgroup_size(8, 8, 1)
 fn corona(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let y0 = max(moon.corona_rect.y, frame.band.x);
-    let px = gid.x + moon.corona_rect.x;
-    let py = gid.y + y0;
-    if (px >= moon.corona_rect.z || py >= min(moon.corona_rect.w, frame.band.x + frame.band.y)) {
+    let p = rect_pixel(gid, moon.corona_rect);
+    let px = p.x;
+    let py = p.y;
+    if (p.z == 0u) {
         return;
     }
     let d4 = pixel_dir(f32(px) + 0.5, f32(py) + 0.5);

@@ -37,20 +37,26 @@ fn quad_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) id: u32) -> Q
     }
     let y0 = f32(s.c.y - reach) - f32(frame.band.x);
     let y1 = f32(s.c.y + reach + 1) - f32(frame.band.x);
-    // Two triangles: (0, 0) (1, 0) (0, 1), (0, 1) (1, 0) (1, 1).
+    var out: QuadOut;
+    out.pos = quad_corner(x0, y0, x1, y1, v);
+    out.id = id;
+    return out;
+}
+
+// Corner `v` (0..5) of the pixel rectangle [x0, x1] × [y0, y1] (band
+// rows) in clip space, as two triangles: (0, 0) (1, 0) (0, 1), (0, 1)
+// (1, 0) (1, 1).
+fn quad_corner(x0: f32, y0: f32, x1: f32, y1: f32, v: u32) -> vec4<f32> {
     let cx = array<f32, 6>(0.0, 1.0, 0.0, 0.0, 1.0, 1.0);
     let cy = array<f32, 6>(0.0, 0.0, 1.0, 1.0, 0.0, 1.0);
     let x = mix(x0, x1, cx[v % 6u]);
     let y = mix(y0, y1, cy[v % 6u]);
-    var out: QuadOut;
-    out.pos = vec4<f32>(
+    return vec4<f32>(
         2.0 * x / f32(frame.size.x) - 1.0,
         1.0 - 2.0 * y / f32(frame.band.y),
         0.0,
         1.0,
     );
-    out.id = id;
-    return out;
 }
 
 // Clears the list's non-empty 8 × 8 tiles of the target (drawn before the
@@ -63,17 +69,8 @@ fn quad_clear_vs(@builtin(vertex_index) v: u32, @builtin(instance_index) word: u
     let ts = night.tiles.x;
     let x0 = f32((t % night.tiles.y) * ts);
     let y0 = f32((t / night.tiles.y) * ts) - f32(frame.band.x);
-    let cx = array<f32, 6>(0.0, 1.0, 0.0, 0.0, 1.0, 1.0);
-    let cy = array<f32, 6>(0.0, 0.0, 1.0, 1.0, 0.0, 1.0);
-    let x = x0 + f32(ts) * cx[v % 6u];
-    let y = y0 + f32(ts) * cy[v % 6u];
     var out: QuadOut;
-    out.pos = vec4<f32>(
-        2.0 * x / f32(frame.size.x) - 1.0,
-        1.0 - 2.0 * y / f32(frame.band.y),
-        0.0,
-        1.0,
-    );
+    out.pos = quad_corner(x0, y0, x0 + f32(ts), y0 + f32(ts), v);
     out.id = t;
     return out;
 }
@@ -110,18 +107,12 @@ fn quad_fs(q: QuadOut) -> @location(0) vec4<f32> {
 // 8 × 8 tiles (every quad lies within the tiles its record is listed in):
 // one workgroup per tile, as the tiled passes (sky.wgsl `point_sources`).
 fn quad_resolve(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, first: u32, n: u32) {
-    let k = wg.y * nwg.x + wg.x;
-    if (k >= n) {
+    let tp = busy_tile_pixel(wg, nwg, lid, first, n);
+    if (!tp.ok) {
         return;
     }
-    let t = tiles[first + k];
-    let ts = night.tiles.x;
-    let px = (t % night.tiles.y) * ts + lid.x;
-    let py = (t / night.tiles.y) * ts + lid.y;
-    if (px >= frame.size.x || py < frame.band.x || py >= frame.band.x + frame.band.y) {
-        return;
-    }
-    let y = py - frame.band.x;
+    let px = tp.x;
+    let y = tp.y - frame.band.x;
     let i = y * frame.size.x + px;
     let l = textureLoad(quad_src, vec2<u32>(px, y), 0);
     accum[i] = accum[i] + vec4<f32>(l.xyz / night.psf.w, 0.0);

@@ -168,17 +168,11 @@ fn tex_from_unit(x: f32, n: u32) -> f32 {
 fn sky_sample(base: u32, u: f32, v: f32) -> vec3<f32> {
     let w = frame.tables.x;
     let h = frame.tables.y;
-    let x = clamp(u * f32(w) - 0.5, 0.0, f32(w - 1u));
-    let y = clamp(v * f32(h) - 0.5, 0.0, f32(h - 1u));
-    let x0 = u32(x);
-    let y0 = u32(y);
-    let x1 = min(x0 + 1u, w - 1u);
-    let y1 = min(y0 + 1u, h - 1u);
-    let fx = x - f32(x0);
-    let fy = y - f32(y0);
-    let a = mix(sky[base + y0 * w + x0].xyz, sky[base + y0 * w + x1].xyz, fx);
-    let b = mix(sky[base + y1 * w + x0].xyz, sky[base + y1 * w + x1].xyz, fx);
-    return mix(a, b, fy);
+    let bl = bilinear(u, v, w, h);
+    let i = bl.i + vec4<u32>(base);
+    let a = mix(sky[i.x].xyz, sky[i.y].xyz, bl.f.x);
+    let b = mix(sky[i.z].xyz, sky[i.w].xyz, bl.f.x);
+    return mix(a, b, bl.f.y);
 }
 
 // One sky view's radiance for an ENU direction (lut.rs `SkyView::radiance`):
@@ -456,21 +450,43 @@ fn point_face(px: u32) -> i32 {
     return 0;
 }
 
+// The pixel of invocation `lid` in the busy tile of workgroup `wg` (one
+// workgroup per non-empty 8 × 8 tile, listed from word `first` of `tiles`,
+// `n` of them): the tile's index `t`, the pixel (x, y), and whether the
+// pixel is in this band's image.
+struct TilePixel {
+    t: u32,
+    x: u32,
+    y: u32,
+    ok: bool,
+}
+
+fn busy_tile_pixel(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, first: u32, n: u32) -> TilePixel {
+    var p: TilePixel;
+    let k = wg.y * nwg.x + wg.x;
+    p.ok = k < n;
+    if (!p.ok) {
+        return p;
+    }
+    p.t = tiles[first + k];
+    let ts = night.tiles.x;
+    p.x = (p.t % night.tiles.y) * ts + lid.x;
+    p.y = (p.t / night.tiles.y) * ts + lid.y;
+    p.ok = p.x < frame.size.x && p.y >= frame.band.x && p.y < frame.band.x + frame.band.y;
+    return p;
+}
+
 // Point sources, tiled: each pixel sums the footprints of the sources
 // listed for its 8 × 8 tile (no atomics) over the pixel's solid angle. One
 // workgroup per non-empty tile (`busy` words on).
 fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first: u32, n: u32) {
-    let k = wg.y * nwg.x + wg.x;
-    if (k >= n) {
+    let tp = busy_tile_pixel(wg, nwg, lid, first, n);
+    if (!tp.ok) {
         return;
     }
-    let t = tiles[first + k];
-    let ts = night.tiles.x;
-    let px = (t % night.tiles.y) * ts + lid.x;
-    let py = (t / night.tiles.y) * ts + lid.y;
-    if (px >= frame.size.x || py < frame.band.x || py >= frame.band.x + frame.band.y) {
-        return;
-    }
+    let t = tp.t;
+    let px = tp.x;
+    let py = tp.y;
     let s0 = tiles[base + t];
     let s1 = tiles[base + t + 1u];
     if (s0 == s1) {

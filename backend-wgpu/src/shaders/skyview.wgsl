@@ -42,39 +42,28 @@ struct Atmo {
 
 const HALF_PI: f32 = 1.57079632679490;
 
-// Bilinear lookup of band group k of a Spectrum LUT (w × h), clamped.
-fn lut_corners(u: f32, v: f32, w: u32, h: u32) -> vec4<f32> {
-    let x = clamp(u * f32(w) - 0.5, 0.0, f32(w - 1u));
-    let y = clamp(v * f32(h) - 0.5, 0.0, f32(h - 1u));
-    return vec4<f32>(x, y, x - floor(x), y - floor(y));
-}
-
+// Bilinear lookup of band group k of a transmittance LUT (bilinear.wgsl).
 fn trans_sample(scattering: bool, u: f32, v: f32, k: u32) -> vec4<f32> {
-    let w = atmo.dims.x;
-    let h = atmo.dims.y;
-    let c = lut_corners(u, v, w, h);
-    let x0 = u32(c.x);
-    let y0 = u32(c.y);
-    let x1 = min(x0 + 1u, w - 1u);
-    let y1 = min(y0 + 1u, h - 1u);
+    let bl = bilinear(u, v, atmo.dims.x, atmo.dims.y);
+    let i = bl.i * 3u + vec4<u32>(k);
     var t00: vec4<f32>;
     var t01: vec4<f32>;
     var t10: vec4<f32>;
     var t11: vec4<f32>;
     if (scattering) {
-        t00 = trans_s[(y0 * w + x0) * 3u + k];
-        t01 = trans_s[(y0 * w + x1) * 3u + k];
-        t10 = trans_s[(y1 * w + x0) * 3u + k];
-        t11 = trans_s[(y1 * w + x1) * 3u + k];
+        t00 = trans_s[i.x];
+        t01 = trans_s[i.y];
+        t10 = trans_s[i.z];
+        t11 = trans_s[i.w];
     } else {
-        t00 = trans[(y0 * w + x0) * 3u + k];
-        t01 = trans[(y0 * w + x1) * 3u + k];
-        t10 = trans[(y1 * w + x0) * 3u + k];
-        t11 = trans[(y1 * w + x1) * 3u + k];
+        t00 = trans[i.x];
+        t01 = trans[i.y];
+        t10 = trans[i.z];
+        t11 = trans[i.w];
     }
-    let a = t00 * (1.0 - c.z) + t01 * c.z;
-    let b = t10 * (1.0 - c.z) + t11 * c.z;
-    return a * (1.0 - c.w) + b * c.w;
+    let a = t00 * (1.0 - bl.f.x) + t01 * bl.f.x;
+    let b = t10 * (1.0 - bl.f.x) + t11 * bl.f.x;
+    return a * (1.0 - bl.f.y) + b * bl.f.y;
 }
 
 // lut.rs `sun_transmittance`: the transmittance LUT (Bruneton 2017
@@ -110,14 +99,11 @@ fn multiscatter_at(r: f32, mu_s: f32, k: u32) -> vec4<f32> {
     let n = atmo.dims.z;
     let u = tex_from_unit(unit_from_mu_s(mu_s), n);
     let v = tex_from_unit(clamp((r - atmo.s0.x) / (atmo.s0.y - atmo.s0.x), 0.0, 1.0), n);
-    let c = lut_corners(u, v, n, n);
-    let x0 = u32(c.x);
-    let y0 = u32(c.y);
-    let x1 = min(x0 + 1u, n - 1u);
-    let y1 = min(y0 + 1u, n - 1u);
-    let a = multi[(y0 * n + x0) * 3u + k] * (1.0 - c.z) + multi[(y0 * n + x1) * 3u + k] * c.z;
-    let b = multi[(y1 * n + x0) * 3u + k] * (1.0 - c.z) + multi[(y1 * n + x1) * 3u + k] * c.z;
-    return a * (1.0 - c.w) + b * c.w;
+    let bl = bilinear(u, v, n, n);
+    let i = bl.i * 3u + vec4<u32>(k);
+    let a = multi[i.x] * (1.0 - bl.f.x) + multi[i.y] * bl.f.x;
+    let b = multi[i.z] * (1.0 - bl.f.x) + multi[i.w] * bl.f.x;
+    return a * (1.0 - bl.f.y) + b * bl.f.y;
 }
 
 // lut.rs `SkyView::transfer` for band group k.
@@ -239,14 +225,10 @@ fn sky_view(@builtin(global_invocation_id) gid: vec3<u32>) {
 fn sky_sample(u: f32, v: f32) -> vec3<f32> {
     let w = atmo.dims2.x;
     let h = atmo.dims2.y;
-    let c = lut_corners(u, v, w, h);
-    let x0 = u32(c.x);
-    let y0 = u32(c.y);
-    let x1 = min(x0 + 1u, w - 1u);
-    let y1 = min(y0 + 1u, h - 1u);
-    let a = mix(sky[y0 * w + x0].xyz, sky[y0 * w + x1].xyz, c.z);
-    let b = mix(sky[y1 * w + x0].xyz, sky[y1 * w + x1].xyz, c.z);
-    return mix(a, b, c.w);
+    let bl = bilinear(u, v, w, h);
+    let a = mix(sky[bl.i.x].xyz, sky[bl.i.y].xyz, bl.f.x);
+    let b = mix(sky[bl.i.z].xyz, sky[bl.i.w].xyz, bl.f.x);
+    return mix(a, b, bl.f.y);
 }
 
 var<workgroup> rings: array<vec3<f32>, 64>;
