@@ -369,24 +369,13 @@ mod tests {
     use super::*;
     use std::mem::{offset_of, size_of};
 
+    use crate::uniforms::tests::assert_wgsl_layout;
+
     /// `LutUniforms` has the size and offsets naga computes for the WGSL
     /// `LutParams` (uniform address space rules).
     #[test]
     fn lut_uniforms_mirror_the_wgsl_struct() {
         assert_eq!(size_of::<LutUniforms>(), 320);
-        let module = naga::front::wgsl::parse_str(LUTS_WGSL).expect("luts.wgsl parses");
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).expect("layout");
-        let (handle, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("LutParams"))
-            .expect("struct LutParams");
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("LutParams is not a struct");
-        };
-        assert_eq!(*span as usize, size_of::<LutUniforms>());
-        assert_eq!(layouter[handle].size as usize, size_of::<LutUniforms>());
         let rust = [
             ("rayleigh", offset_of!(LutUniforms, rayleigh)),
             ("mie_scattering", offset_of!(LutUniforms, mie_scattering)),
@@ -399,11 +388,7 @@ mod tests {
             ("dims", offset_of!(LutUniforms, dims)),
             ("dims2", offset_of!(LutUniforms, dims2)),
         ];
-        assert_eq!(members.len(), rust.len());
-        for (m, (name, off)) in members.iter().zip(rust) {
-            assert_eq!(m.name.as_deref(), Some(name));
-            assert_eq!(m.offset as usize, off, "{name}");
-        }
+        assert_wgsl_layout(LUTS_WGSL, "LutParams", size_of::<LutUniforms>(), &rust);
     }
 
     /// The shader validates with its two entry points.

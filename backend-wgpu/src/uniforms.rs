@@ -233,9 +233,33 @@ pub const SKYVIEW_WGSL: &str = concat!(
 );
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use std::mem::{align_of, offset_of, size_of};
+
+    /// The WGSL struct `name` in `wgsl` has naga's size `size` and the
+    /// members `rust` (name, byte offset) in order: the uniform-address-space
+    /// layout of a `#[repr(C)]` mirror.
+    pub(crate) fn assert_wgsl_layout(wgsl: &str, name: &str, size: usize, rust: &[(&str, usize)]) {
+        let module = naga::front::wgsl::parse_str(wgsl).expect("WGSL parses");
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).expect("layout");
+        let (handle, ty) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("struct {name}"));
+        let naga::TypeInner::Struct { members, span } = &ty.inner else {
+            panic!("{name} is not a struct");
+        };
+        assert_eq!(*span as usize, size, "{name}");
+        assert_eq!(layouter[handle].size as usize, size, "{name}");
+        assert_eq!(members.len(), rust.len(), "{name}");
+        for (m, (field, off)) in members.iter().zip(rust) {
+            assert_eq!(m.name.as_deref(), Some(*field), "{name}");
+            assert_eq!(m.offset as usize, *off, "{name}.{field}");
+        }
+    }
 
     /// The Rust struct's size and field offsets equal the layout naga
     /// computes for the WGSL `Frame` (uniform address space rules).
@@ -243,19 +267,6 @@ mod tests {
     fn frame_uniforms_mirror_the_wgsl_struct() {
         assert_eq!(size_of::<FrameUniforms>(), 176);
         assert_eq!(align_of::<FrameUniforms>(), 4);
-        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).expect("layout");
-        let (handle, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("Frame"))
-            .expect("struct Frame");
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("Frame is not a struct");
-        };
-        assert_eq!(*span as usize, size_of::<FrameUniforms>());
-        assert_eq!(layouter[handle].size as usize, size_of::<FrameUniforms>());
         let rust = [
             ("size", offset_of!(FrameUniforms, size)),
             ("persp_f", offset_of!(FrameUniforms, persp_f)),
@@ -269,29 +280,12 @@ mod tests {
             ("moon", offset_of!(FrameUniforms, moon)),
             ("eclipse", offset_of!(FrameUniforms, eclipse)),
         ];
-        assert_eq!(members.len(), rust.len());
-        for (m, (name, off)) in members.iter().zip(rust) {
-            assert_eq!(m.name.as_deref(), Some(name));
-            assert_eq!(m.offset as usize, off, "{name}");
-        }
+        assert_wgsl_layout(SKY_WGSL, "Frame", size_of::<FrameUniforms>(), &rust);
     }
 
     #[test]
     fn night_uniforms_mirror_the_wgsl_struct() {
         assert_eq!(size_of::<NightUniforms>(), 160);
-        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).expect("layout");
-        let (handle, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("Night"))
-            .expect("struct Night");
-        let naga::TypeInner::Struct { members, span } = &ty.inner else {
-            panic!("Night is not a struct");
-        };
-        assert_eq!(*span as usize, size_of::<NightUniforms>());
-        assert_eq!(layouter[handle].size as usize, size_of::<NightUniforms>());
         let rust = [
             ("enu_to_icrs_x", offset_of!(NightUniforms, enu_to_icrs_x)),
             ("enu_to_icrs_y", offset_of!(NightUniforms, enu_to_icrs_y)),
@@ -304,59 +298,24 @@ mod tests {
             ("psf", offset_of!(NightUniforms, psf)),
             ("busy", offset_of!(NightUniforms, busy)),
         ];
-        assert_eq!(members.len(), rust.len());
-        for (m, (name, off)) in members.iter().zip(rust) {
-            assert_eq!(m.name.as_deref(), Some(name));
-            assert_eq!(m.offset as usize, off, "{name}");
-        }
+        assert_wgsl_layout(SKY_WGSL, "Night", size_of::<NightUniforms>(), &rust);
     }
 
     /// `PointRecord` has the size and offsets naga computes for `Point`.
     #[test]
     fn point_record_mirrors_the_wgsl_struct() {
         assert_eq!(size_of::<PointRecord>(), 48);
-        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).expect("layout");
-        let (handle, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("Point"))
-            .expect("struct Point");
-        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
-            panic!("Point is not a struct");
-        };
-        assert_eq!(layouter[handle].size as usize, size_of::<PointRecord>());
         let rust = [
             ("a", offset_of!(PointRecord, a)),
             ("b", offset_of!(PointRecord, b)),
             ("c", offset_of!(PointRecord, c)),
         ];
-        assert_eq!(members.len(), rust.len());
-        for (m, (name, off)) in members.iter().zip(rust) {
-            assert_eq!(m.name.as_deref(), Some(name));
-            assert_eq!(m.offset as usize, off, "{name}");
-        }
+        assert_wgsl_layout(SKY_WGSL, "Point", size_of::<PointRecord>(), &rust);
     }
 
     #[test]
     fn atmosphere_uniforms_mirror_the_wgsl_struct() {
         assert_eq!(size_of::<AtmosphereUniforms>(), 480);
-        let module = naga::front::wgsl::parse_str(SKYVIEW_WGSL).expect("skyview.wgsl parses");
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).expect("layout");
-        let (handle, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("Atmo"))
-            .expect("struct Atmo");
-        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
-            panic!("Atmo is not a struct");
-        };
-        assert_eq!(
-            layouter[handle].size as usize,
-            size_of::<AtmosphereUniforms>()
-        );
         let rust = [
             ("rayleigh", offset_of!(AtmosphereUniforms, rayleigh)),
             (
@@ -379,11 +338,7 @@ mod tests {
             ("dims", offset_of!(AtmosphereUniforms, dims)),
             ("dims2", offset_of!(AtmosphereUniforms, dims2)),
         ];
-        assert_eq!(members.len(), rust.len());
-        for (m, (name, off)) in members.iter().zip(rust) {
-            assert_eq!(m.name.as_deref(), Some(name));
-            assert_eq!(m.offset as usize, off, "{name}");
-        }
+        assert_wgsl_layout(SKYVIEW_WGSL, "Atmo", size_of::<AtmosphereUniforms>(), &rust);
     }
 
     /// `MoonUniforms` and the table rows have the layout naga computes
@@ -391,21 +346,6 @@ mod tests {
     #[test]
     fn moon_uniforms_mirror_the_wgsl_struct() {
         assert_eq!(size_of::<MoonUniforms>(), 288);
-        let module = naga::front::wgsl::parse_str(MOON_WGSL).expect("moon.wgsl parses");
-        let mut layouter = naga::proc::Layouter::default();
-        layouter.update(module.to_ctx()).expect("layout");
-        let (handle, ty) = module
-            .types
-            .iter()
-            .find(|(_, t)| t.name.as_deref() == Some("Moon"))
-            .expect("struct Moon");
-        let naga::TypeInner::Struct { members, .. } = &ty.inner else {
-            panic!("Moon is not a struct");
-        };
-        assert_eq!(
-            layouter[handle].size as usize,
-            size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS
-        );
         let rust = [
             ("centre", offset_of!(MoonUniforms, centre)),
             ("east", offset_of!(MoonUniforms, east)),
@@ -427,11 +367,8 @@ mod tests {
             ("corona_z", offset_of!(MoonUniforms, corona_z)),
             ("tables", size_of::<MoonUniforms>()),
         ];
-        assert_eq!(members.len(), rust.len());
-        for (m, (name, off)) in members.iter().zip(rust) {
-            assert_eq!(m.name.as_deref(), Some(name));
-            assert_eq!(m.offset as usize, off, "{name}");
-        }
+        let size = size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS;
+        assert_wgsl_layout(MOON_WGSL, "Moon", size, &rust);
         // The table offsets of the WGSL constants.
         for (name, want) in [
             ("MOON_EXT", MOON_EXT),

@@ -20,7 +20,7 @@ use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState
 use himmel_wgpu::{PointMethod, WgpuRenderer};
 
 mod common;
-use common::{gpu, peaks, percentile, psnr, rel_diffs};
+use common::{assert_parity, gpu, peaks, percentile, rel_diffs};
 
 fn scene(utc: &str, p: Projection, w: u32, h: u32) -> Scene {
     let mut s = Scene::default();
@@ -114,20 +114,10 @@ fn compare(name: &str, s: &Scene, k: f32, min: usize, band_rows: u64) -> (HdrIma
     let c = CpuRenderer::new(None).render(s, &state).unwrap().image;
     let q = render(s, &state, PointMethod::Quads, None);
     let t = render(s, &state, PointMethod::Tiles, None);
-    assert_eq!(c.valid, q.valid, "{name}: valid masks differ");
-    let d = rel_diffs(&c, &q);
-    let (med, p99) = (percentile(&d, 0.5), percentile(&d, 0.99));
-    let db = psnr(&c, &q);
+    assert_parity(&format!("{name}: quads vs CPU"), &c, &q);
     let qt = max_rel(&q, &t);
     let format = gpu().quad_format();
-    eprintln!(
-        "{name}: quads vs CPU median |ΔY|/Y {:.4} %, p99 {:.4} %, PSNR {db:.1} dB; quads vs tiles max relative {qt:.2e} ({format:?})",
-        med * 100.0,
-        p99 * 100.0,
-    );
-    assert!(med <= 0.02, "{name}: median {med}");
-    assert!(p99 <= 0.10, "{name}: p99 {p99}");
-    assert!(db >= 35.0, "{name}: PSNR {db} dB");
+    eprintln!("{name}: quads vs tiles max relative {qt:.2e} ({format:?})");
     same_peaks(name, &c, &q, k, min);
     let (bound, floor) = if format == wgpu::TextureFormat::Rgba32Float {
         (1e-6, 0.0)

@@ -464,27 +464,34 @@ fn splat_impl(
         gx[k] = (-(((ci as f64 + o - cx).powi(2)) as f32) * inv2s2).exp();
         gy[k] = (-(((cj as f64 + o - cy).powi(2)) as f32) * inv2s2).exp();
     }
+    // A footprint pixel: its index and centre (off the image or its
+    // cube face: None), then its solid angle where it shows sky (None at
+    // zero solid angle, or below the horizon near it).
+    let pixel = |i: i64, j: i64| {
+        pixel_index(cam, w, h, i, j, face).map(|idx| (idx, i as f64 + 0.5, j as f64 + 0.5))
+    };
+    let sky_omega = |px: f64, py: f64| {
+        let omega = cam.pixel_solid_angle(px, py) as f32;
+        let shown =
+            omega > 0.0 && !(near_horizon && cam.pixel_to_dir(px, py).map_or(true, |d| d.z < 0.0));
+        shown.then_some(omega)
+    };
     let taps = &mut scratch.taps;
     taps.clear();
     let mut sum = 0.0f32;
     let mut peak = (0.0f32, 1.0f32);
     for (b, j) in (cj - r..=cj + r).enumerate().take(n) {
         for (a, i) in (ci - r..=ci + r).enumerate().take(n) {
-            let Some(idx) = pixel_index(cam, w, h, i, j, face) else {
+            let Some((idx, px, py)) = pixel(i, j) else {
                 continue;
             };
-            let (px, py) = (i as f64 + 0.5, j as f64 + 0.5);
             let d2 = ((px - cx).powi(2) + (py - cy).powi(2)) as f32;
             if d2 > (r * r) as f32 + 0.5 {
                 continue;
             }
-            let omega = cam.pixel_solid_angle(px, py) as f32;
-            if omega <= 0.0 {
+            let Some(omega) = sky_omega(px, py) else {
                 continue;
-            }
-            if near_horizon && cam.pixel_to_dir(px, py).map_or(true, |d| d.z < 0.0) {
-                continue;
-            }
+            };
             let wt = gx[a] * gy[b];
             sum += wt;
             if wt > peak.0 {
@@ -529,21 +536,16 @@ fn splat_impl(
     let mut gsum = 0.0f32;
     for j in cj - rg..=cj + rg {
         for i in ci - rg..=ci + rg {
-            let Some(idx) = pixel_index(cam, w, h, i, j, face) else {
+            let Some((idx, px, py)) = pixel(i, j) else {
                 continue;
             };
-            let (px, py) = (i as f64 + 0.5, j as f64 + 0.5);
             let d = ((px - cx).powi(2) + (py - cy).powi(2)).sqrt() as f32;
             if d >= r_px {
                 continue;
             }
-            let omega = cam.pixel_solid_angle(px, py) as f32;
-            if omega <= 0.0 {
+            let Some(omega) = sky_omega(px, py) else {
                 continue;
-            }
-            if near_horizon && cam.pixel_to_dir(px, py).map_or(true, |d| d.z < 0.0) {
-                continue;
-            }
+            };
             let x = 1.0 - d / r_px;
             let wt = x * x;
             gsum += wt;

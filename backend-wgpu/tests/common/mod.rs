@@ -98,3 +98,25 @@ pub fn peaks(img: &HdrImage, k: f32) -> Vec<(usize, usize, f32)> {
     out.sort_by(|a, b| b.2.total_cmp(&a.2));
     out
 }
+
+/// Issue 7's parity thresholds on a CPU image `c` and a GPU image `g`: the
+/// same valid pixels, median relative luminance difference ≤ 2 %, 99th
+/// percentile ≤ 10 %, PSNR of the tone-mapped images ≥ 35 dB. Prints the
+/// figures (`-- --nocapture`) under `label` and returns (median, p99, PSNR).
+pub fn assert_parity(label: &str, c: &HdrImage, g: &HdrImage) -> (f64, f64, f64) {
+    assert_eq!((c.width, c.height), (g.width, g.height), "{label}");
+    assert_eq!(c.valid, g.valid, "{label}: valid masks differ");
+    let d = rel_diffs(c, g);
+    let (med, p99) = (percentile(&d, 0.5), percentile(&d, 0.99));
+    let db = psnr(c, g);
+    eprintln!(
+        "{label}: median |ΔY|/Y {:.4} %, p99 {:.4} %, max {:.3} %, PSNR {db:.1} dB",
+        med * 100.0,
+        p99 * 100.0,
+        d[d.len() - 1] * 100.0
+    );
+    assert!(med <= 0.02, "{label}: median {med}");
+    assert!(p99 <= 0.10, "{label}: p99 {p99}");
+    assert!(db >= 35.0, "{label}: PSNR {db} dB");
+    (med, p99, db)
+}
