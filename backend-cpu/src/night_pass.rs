@@ -30,6 +30,22 @@ struct Prepared {
     glare: bool,
 }
 
+impl Prepared {
+    /// Splats the source into `pixels`, the image's rows from pixel
+    /// `offset` on ([`splat_at`]).
+    fn splat(
+        &self,
+        pixels: &mut [[f32; 3]],
+        offset: usize,
+        cam: &himmel_skymodel::Camera,
+        psf: &Psf,
+        scratch: &mut SplatScratch,
+    ) {
+        let (pos, z, rgb) = (self.pos, self.dir_z, self.rgb);
+        splat_at(pixels, offset, cam, pos, z, self.lux, rgb, psf, scratch);
+    }
+}
+
 /// Per-frame state shared by the night passes.
 pub struct NightFrame {
     /// The EV100 the camera uses (fixed, or estimated for `auto`).
@@ -225,33 +241,13 @@ impl NightFrame {
                     .take_while(|p| p.pos.1 < y1 + reach)
                 {
                     if !p.glare {
-                        splat_at(
-                            band,
-                            b * rows * w,
-                            cam,
-                            p.pos,
-                            p.dir_z,
-                            p.lux,
-                            p.rgb,
-                            &psf,
-                            &mut scratch,
-                        );
+                        p.splat(band, b * rows * w, cam, &psf, &mut scratch);
                     }
                 }
             });
         let mut scratch = SplatScratch::default();
         for p in prepared.iter().filter(|p| p.glare) {
-            splat_at(
-                pixels,
-                0,
-                cam,
-                p.pos,
-                p.dir_z,
-                p.lux,
-                p.rgb,
-                &psf,
-                &mut scratch,
-            );
+            p.splat(pixels, 0, cam, &psf, &mut scratch);
         }
     }
 
