@@ -814,21 +814,32 @@ impl WgpuRenderer {
             .collect();
         let sun_dir = state.sun.dir().as_vec3().normalize();
         let atmosphere = state.runs(Effect::Atmosphere);
-
-        // The LUTs (CPU precompute or cache); the sky view on the GPU
-        // (default) or on the CPU, uploaded. `sky` holds the sky-view LUT,
-        // then the ground luminance.
-        let mut precompute_ms = 0.0;
+        let moon_runs = state.runs(Effect::Moon);
+        let corona_runs = state.runs(Effect::Sun) && state.sun.visible_fraction < 1.0;
+        let milkyway = state.runs(Effect::Milkyway) && culled_reason(Effect::Milkyway).is_none();
+        // The maps (uploaded once) and the LUTs (GPU or CPU precompute,
+        // memory or disk cache): `cpu_luts` then serves every table below.
+        let moon_maps = (moon_runs || corona_runs).then(|| self.upload_moon_maps());
+        let mw_dims = milkyway.then(|| self.upload_milkyway_map());
+        let tp = Clock::now();
         let mut lut_source = "none";
+        let cpu_luts = if atmosphere {
+            let on_gpu = self.ensure_gpu_luts(&scene.atmosphere, &scene.lut)?;
+            let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
+            lut_source = if on_gpu { "gpu" } else { source };
+            Some(luts)
+        } else {
+            None
+        };
+
+        // The sky view on the GPU (default) or on the CPU, uploaded. `sky`
+        // holds the sky-view LUT, then the ground luminance.
+        let mut precompute_ms = 0.0;
         let mut sky_view_ms = 0.0;
         let (mut sky_w, mut sky_h) = (1u32, 1u32);
         let mut sky = None;
         let mut moon_light = [0.0f32; 4];
-        if atmosphere {
-            let tp = Clock::now();
-            let on_gpu = self.ensure_gpu_luts(&scene.atmosphere, &scene.lut)?;
-            let (luts, source) = self.cpu.luts(&scene.atmosphere, &scene.lut);
-            lut_source = if on_gpu { "gpu" } else { source };
+        if let Some(luts) = cpu_luts {
             let mut inputs = vec![SkyViewInput {
                 observer_altitude_km: state.observer_altitude_km as f32,
                 sun_sin_elevation: sun_dir.z,
@@ -906,16 +917,11 @@ impl WgpuRenderer {
         let radius = (state.sun.angular_radius * scene.sun_scale).clamp(1e-6, 0.5);
         let margin = (radius + 1.5 * cam.max_pixel_angle()).min(3.0);
         let (sun_table, z_range) = if state.runs(Effect::Sun) {
-            let luts = if atmosphere {
-                Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
-            } else {
-                None
-            };
             sun_table(
                 sun_dir.z as f64,
                 radius,
                 state.sun.irradiance_scale,
-                luts,
+                cpu_luts,
                 state.observer_altitude_km as f32,
             )
         } else {
@@ -960,16 +966,8 @@ impl WgpuRenderer {
 
         // The Moon pass and the solar-eclipse corona: constants and tables
         // (CPU), maps (uploaded once).
-        let moon_runs = state.runs(Effect::Moon);
-        let corona_runs = state.runs(Effect::Sun) && state.sun.visible_fraction < 1.0;
-        let moon_bind = if moon_runs || corona_runs {
-            let (maps_buf, maps) = self.upload_moon_maps();
-            let luts = if atmosphere {
-                Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
-            } else {
-                None
-            };
-            let (mu, rows) = moon_uniforms(scene, state, luts, maps);
+        let moon_bind = if let Some((maps_buf, maps)) = moon_maps {
+            let (mu, rows) = moon_uniforms(scene, state, cpu_luts, maps);
             let mut bytes = bytemuck::bytes_of(&mu).to_vec();
             bytes.extend_from_slice(bytemuck::cast_slice(&rows));
             let uniform = self.pool.upload(
@@ -992,15 +990,8 @@ impl WgpuRenderer {
 
         // The Milky Way pass's constants, map and extinction table (dummies
         // when it does not run).
-        let milkyway = state.runs(Effect::Milkyway) && culled_reason(Effect::Milkyway).is_none();
-        let (mut night_u, ext_table) = if milkyway {
-            let (w, h) = self.upload_milkyway_map();
-            let luts = if atmosphere {
-                Some(self.cpu.luts(&scene.atmosphere, &scene.lut).0)
-            } else {
-                None
-            };
-            night_inputs(state, luts, w, h)
+        let (mut night_u, ext_table) = if let Some((w, h)) = mw_dims {
+            night_inputs(state, cpu_luts, w, h)
         } else {
             (
                 NightUniforms {
