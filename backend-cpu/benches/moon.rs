@@ -39,7 +39,11 @@ fn benches(c: &mut Criterion) {
         let dirs = himmel_cpu::directions(&s.camera);
         let mut pixels = vec![[0.0f32; 3]; dirs.len()];
         g.bench_function(name, |b| {
-            b.iter(|| himmel_cpu::moon_pass::render(&mut pixels, &dirs, 1920, &s, &st, None, 0.0))
+            b.iter(|| {
+                // The Moon's frame (shader constants and tables) and the pass.
+                let frame = himmel_skymodel::frame::MoonFrame::new(&s, &st, None, 0.0);
+                himmel_cpu::moon_pass::render(&mut pixels, &dirs, 1920, &s.camera, &frame)
+            })
         });
     }
     g.finish();

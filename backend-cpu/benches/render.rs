@@ -58,13 +58,16 @@ fn benches(c: &mut Criterion) {
     night.exposure = himmel_skymodel::Exposure::Ev100(-6.0);
     let nstate = SkyState::at(&night).unwrap();
     let dirs = himmel_cpu::directions(&night.camera);
-    let frame = himmel_cpu::night_pass::NightFrame::prepare(&night, &nstate, None, None, &dirs);
+    let frame = r.plan(&night, &nstate).unwrap().night.unwrap();
+    use himmel_cpu::night_pass;
+    use himmel_skymodel::frame::night::star_sources;
     let mut pixels = vec![[0.0f32; 3]; dirs.len()];
     g.bench_function("stars_pass_1920x1080", |b| {
-        b.iter(|| frame.stars(&mut pixels, &night, &nstate))
+        // The stars above the horizon (as the frame plan finds them) and their splats.
+        b.iter(|| night_pass::splat_all(&frame, &mut pixels, &night, &star_sources(&night, &nstate)))
     });
     g.bench_function("milkyway_pass_1920x1080", |b| {
-        b.iter(|| frame.milkyway(&mut pixels, &dirs))
+        b.iter(|| night_pass::milkyway(&frame, &mut pixels, &dirs))
     });
     g.finish();
 }

@@ -1,252 +1,123 @@
-//! `himmel-cpu`: the reference CPU renderer. Every pass is evaluated per
-//! pixel in Rust on all cores (rayon), from the physics in
-//! `himmel-skymodel`; images are written through the `image` crate.
+//! `himmel-cpu`: the reference CPU renderer. It executes the frame plan of
+//! `himmel-skymodel` ([`FramePlan`]) per pixel in Rust on all cores
+//! (rayon); images are written through the `image` crate.
 //!
-//! * [`precompute`] — the parameter-dependent atmosphere LUTs, in parallel,
-//!   with a progress bar on a terminal, cached on disk ([`cache`]);
-//! * [`CpuRenderer`] — the [`SkyRenderer`] implementation;
+//! * [`CpuRenderer`] — the [`SkyRenderer`] implementation: the LUT store
+//!   (memory and disk cache, with a progress bar on a terminal), the
+//!   per-pixel directions, then each planned pass back to front;
+//! * [`sun_pass`], [`moon_pass`], [`night_pass`] — the passes that are more
+//!   than a per-pixel lookup;
 //! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files.
 
-pub mod cache;
 pub mod moon_pass;
 pub mod night_pass;
 pub mod output;
+pub mod sun_pass;
 
 use std::path::PathBuf;
+use std::sync::Arc;
 use std::time::Instant as Clock;
 
 use glam::Vec3;
-use himmel_skymodel::atmosphere::{
-    AtmosphereLuts, AtmosphereParams, LutConfig, SkyView, SkyViewInput,
+use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, LutConfig};
+use himmel_skymodel::frame::{
+    CpuSkyViews, FramePlan, LutOrigin, LutProgress, LutStore, PixelDirections, SkyLight,
 };
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
-use himmel_skymodel::spectrum::Spectrum;
-use himmel_skymodel::sun::SunDisk;
 use himmel_skymodel::{Effect, Scene, SkyState};
 use rayon::prelude::*;
 
-/// Computes the parameter-dependent LUTs on all cores; shows a progress
-/// bar on stderr when `progress` is set and stderr is a terminal.
-pub fn precompute(params: &AtmosphereParams, config: &LutConfig, progress: bool) -> AtmosphereLuts {
-    let medium = himmel_skymodel::atmosphere::Medium::new(params);
-    let t = AtmosphereLuts::transmittance_lut(&medium, config, Spectrum::ZERO);
-    let fwd = himmel_skymodel::atmosphere::lut::forward_scattering(&medium, config);
-    let ts = AtmosphereLuts::transmittance_lut(&medium, config, fwd);
-    let n = config.multiscatter_n;
-    let bar = if progress {
-        let b = indicatif::ProgressBar::new(n as u64);
+pub use himmel_skymodel::frame::luts::default_cache_dir;
+
+/// A terminal progress bar for the LUT precomputation (stderr, drawn
+/// only when it is a terminal).
+struct Bar(std::sync::Mutex<Option<indicatif::ProgressBar>>);
+
+impl LutProgress for Bar {
+    fn start(&self, total: usize) {
+        let b = indicatif::ProgressBar::new(total as u64);
         b.set_message("atmosphere LUTs");
-        Some(b)
-    } else {
-        None
-    };
-    let rows: Vec<Vec<Spectrum>> = (0..n)
-        .into_par_iter()
-        .map(|j| {
-            let r = AtmosphereLuts::multiscatter_row(&medium, config, &ts, j);
-            if let Some(b) = &bar {
-                b.inc(1);
-            }
-            r
-        })
-        .collect();
-    if let Some(b) = bar {
-        b.finish_and_clear();
+        *self.0.lock().unwrap_or_else(|e| e.into_inner()) = Some(b);
     }
-    AtmosphereLuts::from_parts(params, config, t, ts, rows)
+    fn advance(&self) {
+        if let Some(b) = &*self.0.lock().unwrap_or_else(|e| e.into_inner()) {
+            b.inc(1);
+        }
+    }
+    fn finish(&self) {
+        if let Some(b) = self.0.lock().unwrap_or_else(|e| e.into_inner()).take() {
+            b.finish_and_clear();
+        }
+    }
 }
 
-/// Computes the per-frame sky-view LUT on all cores.
-pub fn sky_view(luts: &AtmosphereLuts, input: &SkyViewInput) -> SkyView {
-    let rows = (0..luts.config.sky_view_h)
-        .into_par_iter()
-        .map(|j| SkyView::row(luts, input, j))
-        .collect();
-    SkyView::from_rows(luts, input, rows)
+/// Computes the parameter-dependent LUTs on all cores, with a progress bar
+/// on stderr when `progress` is set and stderr is a terminal.
+pub fn precompute(params: &AtmosphereParams, config: &LutConfig, progress: bool) -> AtmosphereLuts {
+    let bar = Bar(std::sync::Mutex::new(None));
+    let p: Option<&dyn LutProgress> = if progress { Some(&bar) } else { None };
+    himmel_skymodel::frame::luts::precompute(params, config, p)
 }
 
 /// The ENU direction of every pixel centre (`None` outside the
-/// projection), row-major. Fisheye and equirect use separable/closed forms
-/// in f32 (equal to [`himmel_skymodel::Camera::pixel_to_dir`] within 1e-6);
-/// the other projections call it per pixel.
+/// projection), row-major ([`PixelDirections::buffer`]).
 pub fn directions(cam: &himmel_skymodel::Camera) -> Vec<Option<Vec3>> {
-    use himmel_skymodel::Projection;
-    let (w, h) = cam.image_size();
-    let (w, h) = (w as usize, h as usize);
-    let mut out = vec![None; w * h];
-    match cam.projection {
-        Projection::Fisheye => {
-            let r = (w.min(h) as f64 / 2.0) as f32;
-            out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-                let dy = (y as f64 + 0.5 - h as f64 / 2.0) as f32;
-                for (x, o) in row.iter_mut().enumerate() {
-                    let dx = (x as f64 + 0.5 - w as f64 / 2.0) as f32;
-                    let rho = (dx * dx + dy * dy).sqrt();
-                    let zenith = std::f32::consts::FRAC_PI_2 * rho / r;
-                    if zenith > std::f32::consts::PI {
-                        continue;
-                    }
-                    let (s, c) = zenith.sin_cos();
-                    *o = Some(if rho > 0.0 {
-                        Vec3::new(-dx / rho * s, -dy / rho * s, c)
-                    } else {
-                        Vec3::Z
-                    });
-                }
-            });
-        }
-        Projection::Equirect => {
-            let az: Vec<(f32, f32)> = (0..w)
-                .map(|x| {
-                    let a = std::f64::consts::TAU * (x as f64 + 0.5) / w as f64;
-                    (a.sin() as f32, a.cos() as f32)
-                })
-                .collect();
-            out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-                let alt = std::f64::consts::FRAC_PI_2
-                    - std::f64::consts::PI * (y as f64 + 0.5) / h as f64;
-                let (sa, ca) = (alt.sin() as f32, alt.cos() as f32);
-                for (o, &(s, c)) in row.iter_mut().zip(&az) {
-                    *o = Some(Vec3::new(ca * s, ca * c, sa));
-                }
-            });
-        }
-        _ => {
-            out.par_chunks_mut(w).enumerate().for_each(|(y, row)| {
-                for (x, o) in row.iter_mut().enumerate() {
-                    *o = cam
-                        .pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5)
-                        .map(|d| d.as_vec3());
-                }
-            });
-        }
-    }
-    out
+    PixelDirections::new(cam).buffer()
 }
 
-/// Sub-samples per axis for pixels near the Sun's disk.
-pub const SUN_SUPERSAMPLING: usize = 16;
+/// The sky light of `state` computed on all cores ([`CpuSkyViews`]).
+pub fn sky_light(luts: &AtmosphereLuts, scene: &Scene, state: &SkyState) -> Option<SkyLight> {
+    use himmel_skymodel::frame::SkyViewSource;
+    let inputs = himmel_skymodel::frame::sky_inputs(scene, state);
+    let views = CpuSkyViews.sky_views(luts, &inputs.list()).ok()?;
+    SkyLight::from_views(&inputs, views)
+}
 
-/// The CPU renderer. Keeps the last LUTs in memory and, when `cache_dir`
-/// is set, on disk (keyed by a hash of the parameters).
+/// The CPU renderer. Keeps the last LUTs in memory and, when a cache
+/// directory is given, on disk ([`LutStore`]).
 #[derive(Debug, Default)]
 pub struct CpuRenderer {
-    /// On-disk LUT cache directory (none: no disk cache).
-    pub cache_dir: Option<PathBuf>,
-    /// Show a progress bar during long precomputation.
-    pub progress: bool,
-    luts: Option<AtmosphereLuts>,
+    store: LutStore,
 }
 
 impl CpuRenderer {
-    /// A renderer with the given disk cache (see [`cache::default_dir`]).
+    /// A renderer with the given disk cache (see [`default_cache_dir`]).
     pub fn new(cache_dir: Option<PathBuf>) -> Self {
         CpuRenderer {
-            cache_dir,
-            progress: false,
-            luts: None,
+            store: LutStore::new(cache_dir),
         }
     }
 
-    /// The LUTs for `params`/`config`, from memory, disk or computation;
-    /// returns them with their source.
+    /// Shows a progress bar on stderr (when it is a terminal) during a
+    /// long LUT precomputation.
+    pub fn set_progress(&mut self, on: bool) {
+        let bar: Option<Arc<dyn LutProgress>> = if on {
+            Some(Arc::new(Bar(std::sync::Mutex::new(None))))
+        } else {
+            None
+        };
+        self.store.set_progress(bar);
+    }
+
+    /// The LUTs for `params`/`config`, from memory, disk or computation,
+    /// with their origin.
     pub fn luts(
         &mut self,
         params: &AtmosphereParams,
         config: &LutConfig,
-    ) -> (&AtmosphereLuts, &'static str) {
-        let mut source = "memory";
-        let luts = match self.luts.take() {
-            Some(l) if l.params == *params && l.config == *config => l,
-            _ => {
-                let loaded = self
-                    .cache_dir
-                    .as_ref()
-                    .and_then(|d| cache::load(d, params, config));
-                match loaded {
-                    Some(l) => {
-                        source = "disk-cache";
-                        l
-                    }
-                    None => {
-                        source = "computed";
-                        let l = precompute(params, config, self.progress);
-                        if let Some(d) = &self.cache_dir {
-                            // A cache that cannot be written only costs time next run.
-                            let _ = cache::store(d, &l);
-                        }
-                        l
-                    }
-                }
-            }
-        };
-        (&*self.luts.insert(luts), source)
+    ) -> (Arc<AtmosphereLuts>, LutOrigin) {
+        self.store.get(params, config)
     }
 
-    /// Replaces the in-memory LUTs (e.g. with LUTs computed elsewhere: the
-    /// wgpu backend's compute shaders; `None` empties the memory cache) and
-    /// returns the previous ones. [`Self::luts`] then serves them from
-    /// memory while the parameters and configuration match.
-    pub fn replace_luts(&mut self, luts: Option<AtmosphereLuts>) -> Option<AtmosphereLuts> {
-        std::mem::replace(&mut self.luts, luts)
-    }
-}
-
-/// The sky-view inputs of `state`.
-/// The sky's in-scattered light for one frame: the Sun's sky view and, on
-/// a moonlit night, a second one lit from the Moon
-/// ([`himmel_skymodel::moon::moonlight_scale`]).
-#[derive(Debug, Clone)]
-pub struct SkyLight {
-    /// The sky lit by the Sun (ground below the horizon included).
-    pub sun: SkyView,
-    sun_dir: Vec3,
-    /// The sky lit by the Moon, and the Moon's ENU direction.
-    pub moon: Option<(SkyView, Vec3)>,
-}
-
-impl SkyLight {
-    /// Computes the sky light of `state` on all cores.
-    pub fn new(luts: &AtmosphereLuts, scene: &Scene, state: &SkyState) -> SkyLight {
-        let pole = glam::DVec3::from_array(state.celestial_pole).as_vec3();
-        let moon = himmel_skymodel::moon::moonlight_scale(scene, &state.sun, &state.moon, pole)
-            .map(|scale| {
-                let dir = state.moon.dir().as_vec3().normalize();
-                let input = SkyViewInput {
-                    observer_altitude_km: state.observer_altitude_km as f32,
-                    sun_sin_elevation: dir.z,
-                    irradiance_scale: scale as f32,
-                };
-                (sky_view(luts, &input), dir)
-            });
-        SkyLight {
-            sun: sky_view(luts, &sky_view_input(state)),
-            sun_dir: state.sun.dir().as_vec3().normalize(),
-            moon,
-        }
+    /// The renderer's LUT store.
+    pub fn lut_store(&mut self) -> &mut LutStore {
+        &mut self.store
     }
 
-    /// Sky radiance (linear sRGB, cd/m²) towards ENU `dir` (unit); the
-    /// ground's luminance below the horizon.
-    #[inline]
-    pub fn radiance(&self, dir: Vec3) -> [f32; 3] {
-        let mut l = self.sun.radiance(dir, self.sun_dir);
-        if let Some((sv, m)) = &self.moon {
-            let k = sv.radiance(dir, *m);
-            for c in 0..3 {
-                l[c] += k[c];
-            }
-        }
-        l
-    }
-}
-
-fn sky_view_input(state: &SkyState) -> SkyViewInput {
-    SkyViewInput {
-        observer_altitude_km: state.observer_altitude_km as f32,
-        sun_sin_elevation: state.sun.dir().as_vec3().normalize().z,
-        // Scaled by the visible fraction of the solar disk (solar eclipses).
-        irradiance_scale: state.sun.sky_irradiance_scale() as f32,
+    /// The frame plan of `scene` at `state` as this renderer makes it
+    /// (sky views on the CPU).
+    pub fn plan(&mut self, scene: &Scene, state: &SkyState) -> Result<FramePlan, RenderError> {
+        FramePlan::prepare(scene, state, &mut self.store, &mut CpuSkyViews)
     }
 }
 
@@ -254,51 +125,19 @@ fn ms(t: Clock) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-impl CpuRenderer {
-    /// The night passes (Milky Way, stars, planets) of `state` that would
-    /// be invisible at the scene's exposure, with their reasons: the
-    /// culling [`CpuRenderer::render`] applies, for a backend that has not
-    /// ported those passes (it costs the CPU sky view and a sparse
-    /// metering of the frame; nothing when no night pass is planned).
-    pub fn night_culling(&mut self, scene: &Scene, state: &SkyState) -> Vec<(Effect, String)> {
-        let night = [Effect::Milkyway, Effect::Stars, Effect::Planets];
-        match self.night_frame(scene, state) {
-            Some(frame) => night
-                .into_iter()
-                .filter_map(|e| frame.reason(e).map(|r| (e, r.to_string())))
-                .collect(),
-            None => Vec::new(),
-        }
-    }
-
-    /// The night passes' per-frame state (exposure, extinction, culling) as
-    /// [`CpuRenderer::render`] prepares it, or `None` when no night pass is
-    /// planned: for a backend that draws the stars from
-    /// [`night_pass::NightFrame::splat_plans`].
-    pub fn night_frame(
-        &mut self,
-        scene: &Scene,
-        state: &SkyState,
-    ) -> Option<night_pass::NightFrame> {
-        let night = [Effect::Milkyway, Effect::Stars, Effect::Planets];
-        if !night.into_iter().any(|e| state.runs(e)) {
-            return None;
-        }
-        let atmosphere = state.runs(Effect::Atmosphere);
-        if atmosphere {
-            self.luts(&scene.atmosphere, &scene.lut);
-        }
-        let luts = self.luts.as_ref().filter(|_| atmosphere);
-        let sky = luts.map(|l| SkyLight::new(l, scene, state));
-        let dirs = directions(&scene.camera);
-        Some(night_pass::NightFrame::prepare(
-            scene,
-            state,
-            luts,
-            sky.as_ref(),
-            &dirs,
-        ))
-    }
+/// Adds the sky's radiance to every pixel.
+fn atmosphere_pass(pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>], sky: &SkyLight) {
+    pixels
+        .par_iter_mut()
+        .zip(dirs.par_iter())
+        .for_each(|(p, d)| {
+            if let Some(d) = d {
+                let l = sky.radiance(*d);
+                for k in 0..3 {
+                    p[k] += l[k];
+                }
+            }
+        });
 }
 
 impl SkyRenderer for CpuRenderer {
@@ -307,188 +146,63 @@ impl SkyRenderer for CpuRenderer {
     }
 
     fn render(&mut self, scene: &Scene, state: &SkyState) -> Result<RenderOutput, RenderError> {
-        scene
-            .validate()
-            .map_err(|e| RenderError::Scene(e.field, e.message))?;
+        let mut plan = self.plan(scene, state)?;
         let cam = scene.camera;
         let (w, h) = cam.image_size();
         let (w, h) = (w as usize, h as usize);
-        let sun_dir = state.sun.dir().as_vec3().normalize();
 
         // Geometry: one direction per pixel centre.
         let tg = Clock::now();
-        let dirs = directions(&cam);
+        let dirs = PixelDirections::new(&cam).buffer();
         // The image buffer, written on all cores so that its pages are
         // mapped here and not by whichever pass touches them first (the
         // sparse star splats would otherwise pay for the page faults).
         let mut pixels: Vec<[f32; 3]> = (0..w * h).into_par_iter().map(|_| [0.0f32; 3]).collect();
         let geometry_ms = ms(tg);
-        let mut sky_view_ms = 0.0;
         let valid: Vec<bool> = dirs.iter().map(Option::is_some).collect();
         let mut stats = Vec::new();
-        let mut precompute_ms = 0.0;
-        let mut lut_source = "none";
-
-        // The parameter-dependent LUTs first: the Sun pass (behind the
-        // atmosphere) needs their transmittance.
-        if state.runs(Effect::Atmosphere) {
-            let tp = Clock::now();
-            let (_, source) = self.luts(&scene.atmosphere, &scene.lut);
-            precompute_ms = ms(tp);
-            lut_source = source;
-        }
-        // The night passes decide before rendering whether they can show
-        // at the chosen exposure; they need the sky view for that.
-        let mut sv = None;
-        let night = if [Effect::Milkyway, Effect::Stars, Effect::Planets]
-            .into_iter()
-            .any(|e| state.runs(e))
-        {
-            let luts = self
-                .luts
-                .as_ref()
-                .filter(|_| state.runs(Effect::Atmosphere));
-            if let Some(l) = luts {
-                let tsv = Clock::now();
-                sv = Some(SkyLight::new(l, scene, state));
-                sky_view_ms = ms(tsv);
-            }
-            Some(night_pass::NightFrame::prepare(
-                scene,
-                state,
-                luts,
-                sv.as_ref(),
-                &dirs,
-            ))
-        } else {
-            None
-        };
-        for planned in &state.passes {
-            let culled = night.as_ref().and_then(|n| n.reason(planned.effect));
-            if !planned.run || culled.is_some() {
+        let r0 = plan.observer_radius_km;
+        for planned in plan.passes.clone() {
+            if !planned.run {
                 stats.push(PassStat {
                     name: planned.effect.name().into(),
                     ran: false,
                     ms: None,
-                    reason: planned.reason.clone().or(culled.map(str::to_string)),
+                    reason: planned.reason.as_ref().map(ToString::to_string),
                 });
                 continue;
             }
             let t0 = Clock::now();
+            let luts = plan.luts.clone();
             match planned.effect {
                 Effect::Atmosphere => {
-                    let sv = match sv.take() {
-                        Some(sv) => sv,
-                        None => {
-                            let (luts, _) = self.luts(&scene.atmosphere, &scene.lut);
-                            let tsv = Clock::now();
-                            let sv = SkyLight::new(luts, scene, state);
-                            sky_view_ms = ms(tsv);
-                            sv
-                        }
-                    };
-                    pixels
-                        .par_iter_mut()
-                        .zip(dirs.par_iter())
-                        .for_each(|(p, d)| {
-                            if let Some(d) = d {
-                                let l = sv.radiance(*d);
-                                for k in 0..3 {
-                                    p[k] += l[k];
-                                }
-                            }
-                        });
+                    if let Some(sky) = plan.sky_light(&mut CpuSkyViews)? {
+                        atmosphere_pass(&mut pixels, &dirs, sky);
+                    }
                 }
                 Effect::Sun => {
-                    let disk = SunDisk::new(
-                        sun_dir,
-                        state.sun.angular_radius * scene.sun_scale,
-                        state.sun.irradiance_scale,
-                    );
-                    let margin = (disk.radius as f64 + 1.5 * cam.max_pixel_angle()).min(3.0);
-                    let cos_margin = margin.cos() as f32;
-                    // Back to front: the atmosphere pass comes later, but its
-                    // extinction applies to the disk behind it.
-                    let luts = if state.runs(Effect::Atmosphere) {
-                        self.luts.as_ref()
-                    } else {
-                        None
-                    };
-                    let r0 = luts
-                        .map(|l| l.medium.bottom + state.observer_altitude_km as f32)
-                        .unwrap_or(0.0);
-                    let n = SUN_SUPERSAMPLING;
-                    // Solar eclipses: the Moon's disk hides the Sun's.
-                    let (moon_c, moon_sin) = (
-                        state.moon.dir().as_vec3(),
-                        (state.moon.angular_radius * scene.moon_scale).sin() as f32,
-                    );
-                    pixels
-                        .par_iter_mut()
-                        .zip(dirs.par_iter())
-                        .enumerate()
-                        .for_each(|(i, (p, d))| {
-                            let Some(d) = d else { return };
-                            if d.dot(sun_dir) < cos_margin {
-                                return;
-                            }
-                            let (x, y) = ((i % w) as f64, (i / w) as f64);
-                            let mut acc = [0.0f32; 3];
-                            for sj in 0..n {
-                                for si in 0..n {
-                                    let sx = x + (si as f64 + 0.5) / n as f64;
-                                    let sy = y + (sj as f64 + 0.5) / n as f64;
-                                    let Some(sd) = cam.pixel_to_dir(sx, sy) else {
-                                        continue;
-                                    };
-                                    let sd = sd.as_vec3();
-                                    // The ground hides the disk below the horizon.
-                                    let behind_moon = sd.dot(moon_c) > 0.0
-                                        && sd.cross(moon_c).length() < moon_sin;
-                                    if sd.z < 0.0 || !disk.covers(sd) || behind_moon {
-                                        continue;
-                                    }
-                                    let t = match luts {
-                                        Some(l) => l.sun_transmittance(r0, sd.z),
-                                        None => Spectrum::ONE,
-                                    };
-                                    let l = disk.radiance_rgb(sd, &t);
-                                    for k in 0..3 {
-                                        acc[k] += l[k];
-                                    }
-                                }
-                            }
-                            let k = 1.0 / (n * n) as f32;
-                            for c in 0..3 {
-                                p[c] += acc[c] * k;
-                            }
-                        });
-                    moon_pass::render_corona(&mut pixels, &dirs, scene, state, luts, r0);
+                    if let Some(sun) = &plan.sun {
+                        sun_pass::render(&mut pixels, &dirs, &cam, sun, luts.as_deref(), r0);
+                    }
+                    if let Some(c) = &plan.corona {
+                        sun_pass::render_corona(&mut pixels, &dirs, c, luts.as_deref(), r0);
+                    }
                 }
                 Effect::Moon => {
-                    let luts = self
-                        .luts
-                        .as_ref()
-                        .filter(|_| state.runs(Effect::Atmosphere));
-                    let r0 =
-                        luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
-                    moon_pass::render(&mut pixels, &dirs, w, scene, state, luts, r0);
+                    if let Some(m) = &plan.moon {
+                        moon_pass::render(&mut pixels, &dirs, w, &cam, m);
+                    }
                 }
                 Effect::Milkyway | Effect::Stars | Effect::Planets => {
-                    if let Some(n) = &night {
+                    if let Some(n) = &plan.night {
                         match planned.effect {
-                            Effect::Milkyway => n.milkyway(&mut pixels, &dirs),
-                            Effect::Stars => n.stars(&mut pixels, scene, state),
-                            _ => n.planets(&mut pixels, scene, state),
+                            Effect::Milkyway => night_pass::milkyway(n, &mut pixels, &dirs),
+                            Effect::Stars => night_pass::splat_all(n, &mut pixels, scene, &n.stars),
+                            _ => night_pass::splat_all(n, &mut pixels, scene, &n.planets),
                         }
                     }
                 }
-                other => {
-                    return Err(RenderError::Other(format!(
-                        "the {} pass is not available in this version",
-                        other.name()
-                    )))
-                }
+                other => return Err(RenderError::PassNotAvailable(other)),
             }
             stats.push(PassStat {
                 name: planned.effect.name().into(),
@@ -506,10 +220,10 @@ impl SkyRenderer for CpuRenderer {
                 valid,
             },
             passes: stats,
-            precompute_ms,
-            lut_source,
+            precompute_ms: plan.precompute_ms,
+            lut_source: plan.lut_origin,
             geometry_ms,
-            sky_view_ms,
+            sky_view_ms: plan.sky_view_ms,
         })
     }
 }

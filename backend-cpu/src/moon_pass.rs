@@ -1,6 +1,6 @@
 //! The Moon pass: the opaque lunar disk (Hapke–Lommel–Seeliger BRDF on the
 //! albedo map, earthshine, lunar-eclipse shading and extinction, all from
-//! [`himmel_skymodel::moon::MoonShader`]), composited over what the earlier
+//! the frame plan's [`MoonFrame`] and its [`MoonShader`]), composited over what the earlier
 //! passes drew (the Milky Way, stars, planets) by its coverage: the Moon
 //! replaces what lies behind it; the limb is anti-aliased analytically.
 //!
@@ -9,33 +9,27 @@
 //! other projections test every pixel with one dot product).
 
 use glam::Vec3;
-use himmel_skymodel::atmosphere::AtmosphereLuts;
+use himmel_skymodel::frame::MoonFrame;
 use himmel_skymodel::moon::MoonShader;
-use himmel_skymodel::{Camera, Projection, Scene, SkyState};
+use himmel_skymodel::{Camera, Projection};
 use rayon::prelude::*;
 
-/// Draws the Moon into `pixels` (row-major, width `w`) for the pixel
-/// directions `dirs`; `luts` (with the observer's radius `r0`, km) apply the
-/// extinction along the line of sight.
+/// Draws the Moon of the frame plan into `pixels` (row-major, width `w`)
+/// for the pixel directions `dirs`.
 pub fn render(
     pixels: &mut [[f32; 3]],
     dirs: &[Option<Vec3>],
     w: usize,
-    scene: &Scene,
-    state: &SkyState,
-    luts: Option<&AtmosphereLuts>,
-    r0: f32,
+    cam: &Camera,
+    moon: &MoonFrame,
 ) {
-    let shader = MoonShader::for_frame(scene, state, luts, r0);
-    let cam: &Camera = &scene.camera;
-    let pixel = local_pixel_angle(cam, shader.centre.as_dvec3()) as f32;
-    let cos_bound = shader.cos_bound(limb_margin(pixel));
+    let shader = &moon.shader;
+    let (pixel, cos_bound, n) = (moon.pixel, moon.cos_bound, moon.supersampling);
     let h = pixels.len() / w.max(1);
-    let (x0, x1, y0, y1) = bounding_box(cam, &shader, w, h);
+    let (x0, x1, y0, y1) = bounding_box(cam, shader, w, h);
     if x0 >= x1 || y0 >= y1 {
         return;
     }
-    let n = supersampling(shader.radius / pixel);
     pixels
         .par_chunks_mut(w)
         .zip(dirs.par_chunks(w))
@@ -55,7 +49,7 @@ pub fn render(
                     }
                     shader.shade(d, pixel)
                 } else {
-                    supersample(cam, &shader, x, y, n)
+                    supersample(cam, shader, x, y, n)
                 };
                 if let Some((l, cov)) = shaded {
                     let p = &mut row[x];
@@ -65,27 +59,6 @@ pub fn render(
                 }
             }
         });
-}
-
-/// The margin (radians) around the disk within which pixel centres are
-/// shaded, for pixels of `pixel` radians: two pixels, and at least 10⁻³
-/// rad (f32 dot products resolve ~0.02° near 1: the margin stays above that).
-pub fn limb_margin(pixel: f32) -> f32 {
-    (2.0 * pixel).max(1e-3)
-}
-
-/// Sub-samples per axis for a disk of `r_px` pixels in radius: small disks
-/// (a few pixels across, e.g. all-sky images) are supersampled 8 × 8 or
-/// 4 × 4 so that the light and the shape stay right; large ones (0) use
-/// the analytic edge coverage.
-pub fn supersampling(r_px: f32) -> usize {
-    if r_px < 4.0 {
-        8
-    } else if r_px < 16.0 {
-        4
-    } else {
-        0
-    }
 }
 
 /// Mean radiance of the disk's part of pixel (x, y) and its coverage, from
@@ -122,33 +95,6 @@ fn supersample(
     }
     let inv = 1.0 / hits as f32;
     Some((acc.map(|v| v * inv), hits as f32 / (n * n) as f32))
-}
-
-/// The angular size of a pixel at direction `c` (geometric mean of its
-/// two sides, so that the anti-aliased edge keeps the disk's area); the
-/// camera's largest pixel angle where `c` is not in the image.
-pub fn local_pixel_angle(cam: &Camera, c: glam::DVec3) -> f64 {
-    let fallback = cam.max_pixel_angle();
-    let Some((x, y)) = cam.dir_to_pixel(c) else {
-        return fallback;
-    };
-    let at = |x: f64, y: f64| cam.pixel_to_dir(x, y);
-    match (
-        at(x - 0.5, y),
-        at(x + 0.5, y),
-        at(x, y - 0.5),
-        at(x, y + 0.5),
-    ) {
-        (Some(a), Some(b), Some(u), Some(v)) => {
-            let s = (a.angle_between(b) * u.angle_between(v)).sqrt();
-            if s.is_finite() && s > 0.0 {
-                s
-            } else {
-                fallback
-            }
-        }
-        _ => fallback,
-    }
 }
 
 /// Pixel bounding box [x0, x1) × [y0, y1) of the disk plus two pixels.
@@ -189,60 +135,4 @@ fn bounding_box(
         clamp(ymin.floor() - 2.0, h),
         clamp(ymax.ceil() + 2.0, h),
     )
-}
-
-/// The inner corona around an eclipsed Sun (run by the Sun pass when the
-/// Moon hides part of the disk; against the uneclipsed daylight sky the
-/// corona, ~10⁻⁶ of the disk's radiance, is invisible): Baumbach's profile
-/// ([`himmel_skymodel::sun::corona_relative`], less its value at 6 solar
-/// radii, where the drawing ends) times
-/// the disk's mean radiance and the transmittance along the line of sight,
-/// hidden by the Moon's disk (anti-aliased).
-pub fn render_corona(
-    pixels: &mut [[f32; 3]],
-    dirs: &[Option<Vec3>],
-    scene: &Scene,
-    state: &SkyState,
-    luts: Option<&AtmosphereLuts>,
-    r0: f32,
-) {
-    use himmel_skymodel::spectrum::{BandWeights, Spectrum};
-    if state.sun.visible_fraction >= 1.0 {
-        return;
-    }
-    let sun = state.sun.dir().as_vec3();
-    let rs = (state.sun.angular_radius * scene.sun_scale) as f32;
-    let moon = state.moon.dir().as_vec3();
-    let rm = (state.moon.angular_radius * scene.moon_scale) as f32;
-    let pixel = scene.camera.max_pixel_angle() as f32;
-    let cos_out = (6.0 * rs).cos();
-    let w = BandWeights::solar();
-    let mean =
-        (state.sun.irradiance_scale / (std::f64::consts::PI * (rs as f64).sin().powi(2))) as f32;
-    pixels
-        .par_iter_mut()
-        .zip(dirs.par_iter())
-        .for_each(|(p, d)| {
-            let Some(d) = *d else { return };
-            if d.z < 0.0 || d.dot(sun) < cos_out {
-                return;
-            }
-            let r = d.cross(sun).length().atan2(d.dot(sun)) / rs;
-            // Minus the value at 6 R☉ so that the drawn corona ends without a step.
-            let rel = (himmel_skymodel::sun::corona_relative(r as f64)
-                - himmel_skymodel::sun::corona_relative(6.0)) as f32;
-            if rel <= 0.0 {
-                return;
-            }
-            let gm = d.cross(moon).length().atan2(d.dot(moon));
-            let visible = 1.0 - ((rm - gm) / pixel + 0.5).clamp(0.0, 1.0);
-            if visible <= 0.0 {
-                return;
-            }
-            let t = luts.map_or(Spectrum::ONE, |l| l.sun_transmittance(r0, d.z));
-            let c = w.to_rgb(&(t * (mean * rel * visible)));
-            for k in 0..3 {
-                p[k] += c[k];
-            }
-        });
 }

@@ -476,7 +476,8 @@ fn the_moon_is_opaque_and_its_limb_anti_aliased() {
     // A "star field" already in the buffer: the Moon must replace it.
     let star = [50.0f32, 40.0, 30.0];
     let mut pixels = vec![star; clean.len()];
-    himmel_cpu::moon_pass::render(&mut pixels, &dirs, 128, &s, &st, None, 0.0);
+    let frame = himmel_skymodel::frame::MoonFrame::new(&s, &st, None, 0.0);
+    himmel_cpu::moon_pass::render(&mut pixels, &dirs, 128, &s.camera, &frame);
     let centre = st.moon.dir().as_vec3();
     let r = st.moon.angular_radius as f32;
     let px = s.camera.max_pixel_angle() as f32;
@@ -605,7 +606,7 @@ fn moonlit_sky_follows_krisciunas_schaefer() {
     assert!(st.sun.alt_deg < -18.0, "astronomical night");
     let mut r = CpuRenderer::new(None);
     let (luts, _) = r.luts(&s.atmosphere, &s.lut);
-    let light = himmel_cpu::SkyLight::new(luts, &s, &st);
+    let light = himmel_cpu::sky_light(&luts, &s, &st).unwrap();
     assert!(light.moon.is_some(), "the moonlit sky is computed");
     // The extinction coefficient of this atmosphere (V ≈ luminance).
     let w = himmel_skymodel::spectrum::BandWeights::solar();

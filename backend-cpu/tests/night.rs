@@ -462,11 +462,7 @@ fn auto_exposure_estimate_before_rendering_matches_the_metering() {
         let mut r = CpuRenderer::new(None);
         let out = r.render(&s, &state).unwrap();
         let metered = himmel_skymodel::camera::meter_ev100(&out.image.pixels, &out.image.valid);
-        let (luts, _) = r.luts(&s.atmosphere, &s.lut);
-        let sv = himmel_cpu::SkyLight::new(luts, &s, &state);
-        let dirs = himmel_cpu::directions(&s.camera);
-        let frame =
-            himmel_cpu::night_pass::NightFrame::prepare(&s, &state, Some(luts), Some(&sv), &dirs);
+        let frame = r.plan(&s, &state).unwrap().night.unwrap();
         let ran: Vec<_> = out
             .passes
             .iter()

@@ -1,7 +1,8 @@
 //! CPU renderer: Sun disk position and energy, pass plan, cache.
 
 use glam::DVec3;
-use himmel_cpu::{cache, CpuRenderer};
+use himmel_cpu::CpuRenderer;
+use himmel_skymodel::frame::luts as cache;
 use himmel_skymodel::atmosphere::{AtmosphereParams, LutConfig};
 use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
 
@@ -133,7 +134,7 @@ fn cache_round_trip_and_key_changes_with_parameters() {
     assert_eq!(back.multiscatter, luts.multiscatter);
     let mut p2 = params.clone();
     p2.aerosol_density = 2.0;
-    assert_ne!(cache::key(&params, &cfg), cache::key(&p2, &cfg));
+    assert_ne!(cache::cache_key(&params, &cfg), cache::cache_key(&p2, &cfg));
     assert!(cache::load(&dir, &p2, &cfg).is_none());
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -309,8 +309,8 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
 }
 
 fn cpu_renderer() -> Box<dyn SkyRenderer> {
-    let mut r = CpuRenderer::new(himmel_cpu::cache::default_dir());
-    r.progress = true;
+    let mut r = CpuRenderer::new(himmel_cpu::default_cache_dir());
+    r.set_progress(true);
     Box::new(r)
 }
 
@@ -329,7 +329,7 @@ fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), 
     if std::env::var_os("NODEVICE_SELECT").is_none() {
         std::env::set_var("NODEVICE_SELECT", "1");
     }
-    match himmel_wgpu::WgpuRenderer::new(himmel_cpu::cache::default_dir()) {
+    match himmel_wgpu::WgpuRenderer::new(himmel_cpu::default_cache_dir()) {
         Ok(mut r) => {
             r.set_progress(true);
             let timing = r.timing().name();

@@ -1,31 +1,47 @@
 //! `himmel-skymodel`: the scene, the sky state of one instant with its pass
-//! plan, and the physical sky models in absolute photometric units.
+//! plan, the physical sky models in absolute photometric units, and the
+//! frame plan that every backend executes.
 //!
 //! * [`scene`] — [`Scene`] (serde, documented defaults) and effects;
 //! * [`state`] — [`SkyState::at`]: the Sun's refracted apparent direction,
-//!   distance, size and illuminance, and the pass plan;
+//!   distance, size and illuminance, the Moon, the night sky, the pass plan;
+//! * [`plan`] — the pass plan: every effect back to front, whether it
+//!   runs, and why not ([`SkipReason`]);
+//! * [`frame`] — [`FramePlan::prepare`]: per frame and independent of any
+//!   backend, the LUTs ([`LutStore`], memory and checksummed disk cache),
+//!   the sunlit and moonlit sky views, exposure, culling, and the Sun,
+//!   Moon and night passes' constants and tables;
 //! * [`atmosphere`] — Rayleigh/aerosol/ozone atmosphere with Hillaire (2020)
 //!   LUTs and a brute-force reference;
-//! * [`sun`] — the limb-darkened Sun disk, energy-conserving;
+//! * [`sun`] — the limb-darkened Sun disk, energy-conserving, and the corona;
 //! * [`moon`] — the Moon's state, Hapke BRDF, albedo map, earthshine,
 //!   lunar-eclipse shading;
 //! * [`stars`] — stars and planets as point sources, the energy-conserving
 //!   PSF, extinction and scintillation;
 //! * [`milkyway`] — the Milky Way map, faint-star light, zodiacal light, airglow;
-//! * [`night`] — the night sky of one instant and the culling of its passes;
+//! * [`night`] — the night sky of one instant and the culling criterion of
+//!   its passes;
 //! * [`spectrum`] — bands, solar spectrum, CIE functions, sRGB;
 //! * [`projection`] — fisheye, equirect, perspective, cube map;
 //! * [`camera`] — metering, exposure, night vision, tone curve, sRGB, dither;
-//! * [`renderer`] — the [`SkyRenderer`] trait.
+//! * [`renderer`], [`error`] — the [`SkyRenderer`] trait, its output and errors.
+//!
+//! Module dependencies run one way (no cycles; `tests/tests/architecture.rs`
+//! checks it): `units`, `spectrum` ← the models (`atmosphere`, `sun`,
+//! `moon`, `stars`, `milkyway`, `night`) ← `plan` ← `state` ← `frame`,
+//! `renderer`.
 
 // Band loops index several arrays at once; indices read better there.
 #![allow(clippy::needless_range_loop)]
 
 pub mod atmosphere;
 pub mod camera;
+pub mod error;
+pub mod frame;
 pub mod milkyway;
 pub mod moon;
 pub mod night;
+pub mod plan;
 pub mod projection;
 pub mod renderer;
 pub mod scene;
@@ -37,6 +53,8 @@ pub mod units;
 
 pub use camera::Exposure;
 pub use projection::{Camera, Projection};
-pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
+pub use frame::{FramePlan, LutOrigin, LutStore};
+pub use plan::{PlannedPass, SkipReason};
+pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, Unavailable};
 pub use scene::{Effect, Scene, SceneError, StarParams};
 pub use state::{SkyState, SunState};

@@ -29,7 +29,7 @@ use crate::stars::{
     colour_from_bv, core_peak_luminance, illuminance_lux, refracted, star_frame, star_source,
     Extinction, PointSource, Scintillation, PLANET_BV,
 };
-use crate::state::PlannedPass;
+use crate::plan::Culled;
 
 /// The night-sky part of the sky state.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,17 +91,6 @@ impl NightSky {
         cat.iter()
             .filter_map(move |s| star_source(&self.star_frame, s, self.scintillation.as_ref()))
     }
-
-    /// Marks the planets pass as not running when every planet is below
-    /// the horizon.
-    pub fn refine_plan(&self, passes: &mut [PlannedPass]) {
-        for p in passes.iter_mut() {
-            if p.effect == Effect::Planets && p.run && self.planets.iter().all(|s| s.dir.z < 0.0) {
-                p.run = false;
-                p.reason = Some("every planet is below the horizon".into());
-            }
-        }
-    }
 }
 
 /// The 8-bit display value (0–255, continuous) of luminance `l` (cd/m²) at
@@ -139,14 +128,14 @@ pub const CULL_CANDIDATES: usize = 32;
 /// inside the image (`sources`, brightest first, above the horizon) shows: peak core
 /// luminance after extinction against `background(dir)` (luminance, cd/m²).
 pub fn cull_points(
-    what: &str,
+    what: &'static str,
     sources: impl Iterator<Item = PointSource>,
     cam: &Camera,
     core_px: f32,
     extinction: &Extinction,
     background: impl Fn(Vec3) -> f32,
     ev100: f64,
-) -> Option<String> {
+) -> Option<Culled> {
     let mut brightest_bg = None;
     let mut n = 0;
     for s in sources {
@@ -167,22 +156,25 @@ pub fn cull_points(
         brightest_bg.get_or_insert((peak, bg));
     }
     Some(match brightest_bg {
-        None => format!("no {what} in the field of view above the horizon"),
-        Some((peak, bg)) if display_code(bg, ev100) >= 0.5 => format!(
-            "sky background brighter than the brightest visible {what} (background {bg:.3e} cd/m², {what} peak {peak:.3e} cd/m² at EV100 {ev100:.1})"
-        ),
-        Some((peak, _)) => format!(
-            "the brightest {what} is below one display level at EV100 {ev100:.1} (peak {peak:.3e} cd/m²)"
-        ),
+        None => Culled::NoSourceInView(what),
+        Some((peak, background)) if display_code(background, ev100) >= 0.5 => {
+            Culled::BackgroundBrighter {
+                what,
+                background,
+                peak,
+                ev100,
+            }
+        }
+        Some((peak, _)) => Culled::BelowDisplayLevel { what, peak, ev100 },
     })
 }
 
 /// Why the Milky Way pass is invisible at `ev100`, or `None`: `samples`
 /// holds (sky background, diffuse night light after extinction) luminance
 /// pairs at directions above the horizon.
-pub fn cull_diffuse(samples: &[(f32, f32)], ev100: f64) -> Option<String> {
+pub fn cull_diffuse(samples: &[(f32, f32)], ev100: f64) -> Option<Culled> {
     if samples.is_empty() {
-        return Some("no sky above the horizon in the field of view".into());
+        return Some(Culled::NoSkyInView);
     }
     if samples
         .iter()
@@ -195,11 +187,13 @@ pub fn cull_diffuse(samples: &[(f32, f32)], ev100: f64) -> Option<String> {
         .copied()
         .fold((f32::MAX, 0.0f32), |a, s| (a.0.min(s.0), a.1.max(s.1)));
     Some(if display_code(bg, ev100) >= 0.5 {
-        format!(
-            "sky background brighter than the Milky Way and night-sky light (background ≥ {bg:.3e} cd/m², night light ≤ {add:.3e} cd/m² at EV100 {ev100:.1})"
-        )
+        Culled::DiffuseBackgroundBrighter {
+            background: bg,
+            night_light: add,
+            ev100,
+        }
     } else {
-        format!("the night-sky light is below one display level at EV100 {ev100:.1}")
+        Culled::DiffuseBelowDisplayLevel { ev100 }
     })
 }
 
@@ -224,9 +218,9 @@ mod tests {
     #[test]
     fn diffuse_culling_reasons() {
         assert!(cull_diffuse(&[(2e-4, 2e-4)], -6.0).is_none());
-        let r = cull_diffuse(&[(5000.0, 2e-4)], 14.0).unwrap();
+        let r = cull_diffuse(&[(5000.0, 2e-4)], 14.0).unwrap().to_string();
         assert!(r.starts_with("sky background brighter"), "{r}");
-        let r = cull_diffuse(&[(0.0, 2e-4)], 14.0).unwrap();
+        let r = cull_diffuse(&[(0.0, 2e-4)], 14.0).unwrap().to_string();
         assert!(r.contains("below one display level"), "{r}");
     }
 }

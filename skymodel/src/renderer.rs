@@ -3,7 +3,9 @@
 
 use serde::Serialize;
 
-use crate::scene::Scene;
+pub use crate::error::{RenderError, Unavailable};
+use crate::frame::LutOrigin;
+use crate::scene::{Effect, Scene};
 use crate::state::SkyState;
 
 /// A linear HDR image: linear sRGB, cd/m² (conventions.md, Photometry).
@@ -39,7 +41,7 @@ impl PassStat {
     /// the Moon pass is planned: the lunar-eclipse shading is part of the
     /// Moon pass, and this says whether it ran, or why not.
     pub fn moon_eclipse(state: &SkyState) -> Option<PassStat> {
-        state.runs(crate::Effect::Moon).then(|| PassStat {
+        state.runs(Effect::Moon).then(|| PassStat {
             name: "moon-eclipse".into(),
             ran: state.moon.eclipse.is_some(),
             ms: None,
@@ -57,36 +59,13 @@ pub struct RenderOutput {
     pub passes: Vec<PassStat>,
     /// Time spent on (or loading) the parameter-dependent LUTs, ms.
     pub precompute_ms: f64,
-    /// Where the LUTs came from: `computed`, `disk-cache`, `memory`, `gpu`
-    /// (computed by the wgpu backend's compute shaders), or `none`.
-    pub lut_source: &'static str,
+    /// Where the LUTs came from.
+    pub lut_source: LutOrigin,
     /// Time spent on the per-pixel view directions, ms.
     pub geometry_ms: f64,
     /// Time spent on the per-frame sky-view LUT (part of the atmosphere pass), ms.
     pub sky_view_ms: f64,
 }
-
-/// A renderer failure.
-#[derive(Debug, Clone, PartialEq)]
-pub enum RenderError {
-    /// The scene is invalid (field, message).
-    Scene(String, String),
-    /// The backend is unavailable.
-    Unavailable(String),
-    /// Anything else.
-    Other(String),
-}
-
-impl std::fmt::Display for RenderError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        match self {
-            RenderError::Scene(field, m) => write!(f, "{field}: {m}"),
-            RenderError::Unavailable(m) | RenderError::Other(m) => f.write_str(m),
-        }
-    }
-}
-
-impl std::error::Error for RenderError {}
 
 /// A sky renderer (CPU or GPU): renders the passes that `state` plans for
 /// `scene` into an absolute linear HDR image.

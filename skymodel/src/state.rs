@@ -2,69 +2,15 @@
 //! apparent (refracted) direction in the horizontal frame, its distance,
 //! angular size and extraterrestrial illuminance, and the pass plan.
 
-use glam::DVec3;
 use himmel_astro::units::{KM_PER_AU, SUN_RADIUS_KM};
 use himmel_astro::{Body, Instant, Observer, Precision, Sky, UtcDateTime};
-use serde::Serialize;
 
 use crate::moon::MoonState;
+pub use crate::plan::PlannedPass;
 use crate::projection::enu_from_alt_az;
 use crate::scene::{Effect, Scene, SceneError};
 use crate::spectrum::BandWeights;
-use crate::units::{Degrees, Lux, Radians};
-
-/// The Sun for one instant and observer.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct SunState {
-    /// Unit vector towards the Sun's refracted apparent place (ENU: x East, y North, z Zenith).
-    pub enu: [f64; 3],
-    /// Topocentric apparent altitude without refraction, degrees.
-    pub alt_deg: Degrees,
-    /// Altitude with standard refraction (1010 hPa, 10 °C), degrees.
-    pub alt_refracted_deg: Degrees,
-    /// Azimuth from North through East, degrees.
-    pub az_deg: Degrees,
-    /// Topocentric distance, km.
-    pub distance_km: f64,
-    /// True angular radius, radians.
-    pub angular_radius: Radians,
-    /// Extraterrestrial solar illuminance at this distance, lux.
-    pub illuminance_lux: Lux,
-    /// (1 AU / distance)².
-    pub irradiance_scale: f64,
-    /// Fraction of the solar disk not hidden by the Moon (1 outside solar
-    /// eclipses; uniform-disk overlap of the topocentric disks,
-    /// [`himmel_astro::events::solar_eclipse::disk_overlap_fraction`]).
-    pub visible_fraction: f64,
-}
-
-impl SunState {
-    /// The direction as a glam vector.
-    pub fn dir(&self) -> DVec3 {
-        DVec3::from_array(self.enu)
-    }
-
-    /// The irradiance scale of the sunlight that lights the sky and the
-    /// ground: (1 AU / distance)² × (the visible fraction of the disk + the
-    /// corona's [`crate::sun::CORONA_FRACTION`]); a solar eclipse dims the
-    /// sky in proportion. (The light scattered into the umbra from the
-    /// sunlit atmosphere outside it, which makes the real sky at totality
-    /// ~10⁻⁴ of daylight, is not modelled: totality is darker here.)
-    pub fn sky_irradiance_scale(&self) -> f64 {
-        self.irradiance_scale * (self.visible_fraction + crate::sun::CORONA_FRACTION).min(1.0)
-    }
-}
-
-/// Whether a pass runs, and if not, why.
-#[derive(Debug, Clone, PartialEq, Serialize)]
-pub struct PlannedPass {
-    /// The effect.
-    pub effect: Effect,
-    /// Whether it runs.
-    pub run: bool,
-    /// Why it does not run.
-    pub reason: Option<String>,
-}
+pub use crate::sun::SunState;
 
 /// Everything a renderer needs for one instant.
 #[derive(Debug, Clone, PartialEq)]
@@ -160,9 +106,7 @@ impl SkyState {
                 field: "time.utc".into(),
                 message: e.to_string(),
             })?;
-        let mut passes = plan(scene, &sun);
-        crate::moon::plan_moon(&mut passes, scene, &moon);
-        night.refine_plan(&mut passes);
+        let passes = crate::plan::plan(scene, &sun, &moon, &night.planets);
         let lat = o.lat_deg.to_radians();
         Ok(SkyState {
             utc,
@@ -181,32 +125,4 @@ impl SkyState {
     pub fn runs(&self, e: Effect) -> bool {
         self.passes.iter().any(|p| p.effect == e && p.run)
     }
-}
-
-/// The pass plan: every effect, back to front, with the reason it does not run.
-pub fn plan(scene: &Scene, sun: &SunState) -> Vec<PlannedPass> {
-    Effect::ALL
-        .into_iter()
-        .map(|e| {
-            let reason = if !scene.wants(e) {
-                Some("not requested".to_string())
-            } else if !e.available() {
-                Some(format!(
-                    "not available yet: the {} pass arrives with a later version",
-                    e.name()
-                ))
-            } else if e == Effect::Sun
-                && sun.alt_refracted_deg + (sun.angular_radius * scene.sun_scale).to_degrees() < 0.0
-            {
-                Some("the Sun's disk is below the horizon".to_string())
-            } else {
-                None
-            };
-            PlannedPass {
-                effect: e,
-                run: reason.is_none(),
-                reason,
-            }
-        })
-        .collect()
 }

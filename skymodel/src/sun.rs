@@ -9,10 +9,11 @@
 //! surface normal. A larger `sun_scale` enlarges the disk and lowers its
 //! radiance so that the illuminance stays the physical one.
 
-use glam::Vec3;
+use glam::{DVec3, Vec3};
+use serde::Serialize;
 
 use crate::spectrum::{band_centre_nm, BandWeights, Spectrum, BANDS};
-use crate::units::Radians;
+use crate::units::{Degrees, Lux, Radians};
 
 /// Radiance of the inner (K + F) corona relative to the mean radiance of
 /// the solar disk at `r` solar radii from the Sun's centre (r ≥ 1):
@@ -114,6 +115,48 @@ impl SunDisk {
     pub fn radiance_rgb(&self, dir: Vec3, t: &Spectrum) -> [f32; 3] {
         let f = self.transfer(dir) * *t;
         crate::spectrum::clip_to_gamut(self.weights.to_rgb(&f))
+    }
+}
+
+/// The Sun for one instant and observer.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct SunState {
+    /// Unit vector towards the Sun's refracted apparent place (ENU: x East, y North, z Zenith).
+    pub enu: [f64; 3],
+    /// Topocentric apparent altitude without refraction, degrees.
+    pub alt_deg: Degrees,
+    /// Altitude with standard refraction (1010 hPa, 10 °C), degrees.
+    pub alt_refracted_deg: Degrees,
+    /// Azimuth from North through East, degrees.
+    pub az_deg: Degrees,
+    /// Topocentric distance, km.
+    pub distance_km: f64,
+    /// True angular radius, radians.
+    pub angular_radius: Radians,
+    /// Extraterrestrial solar illuminance at this distance, lux.
+    pub illuminance_lux: Lux,
+    /// (1 AU / distance)².
+    pub irradiance_scale: f64,
+    /// Fraction of the solar disk not hidden by the Moon (1 outside solar
+    /// eclipses; uniform-disk overlap of the topocentric disks,
+    /// [`himmel_astro::events::solar_eclipse::disk_overlap_fraction`]).
+    pub visible_fraction: f64,
+}
+
+impl SunState {
+    /// The direction as a glam vector.
+    pub fn dir(&self) -> DVec3 {
+        DVec3::from_array(self.enu)
+    }
+
+    /// The irradiance scale of the sunlight that lights the sky and the
+    /// ground: (1 AU / distance)² × (the visible fraction of the disk + the
+    /// corona's [`CORONA_FRACTION`]); a solar eclipse dims the
+    /// sky in proportion. (The light scattered into the umbra from the
+    /// sunlit atmosphere outside it, which makes the real sky at totality
+    /// ~10⁻⁴ of daylight, is not modelled: totality is darker here.)
+    pub fn sky_irradiance_scale(&self) -> f64 {
+        self.irradiance_scale * (self.visible_fraction + CORONA_FRACTION).min(1.0)
     }
 }
 

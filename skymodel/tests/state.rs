@@ -45,7 +45,8 @@ fn pass_plan_reasons() {
             .find(|p| p.effect == e)
             .unwrap()
             .reason
-            .clone()
+            .as_ref()
+            .map(ToString::to_string)
     };
     assert_eq!(
         reason(Effect::Sun).as_deref(),

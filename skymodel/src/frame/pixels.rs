@@ -1,0 +1,175 @@
+//! Pixel-centre view directions in f32, the way the CPU renderer walks
+//! the image: fisheye and equirect through closed forms with the per-row
+//! and per-column work shared (equal to [`Camera::pixel_to_dir`] within
+//! 10⁻⁶), the other projections through `pixel_to_dir` itself.
+//!
+//! [`PixelDirections::dir`] gives one pixel's direction with exactly the
+//! arithmetic of [`PixelDirections::row`], so that the frame plan's
+//! sparse metering samples ([`crate::frame::NightFrame`]) see the same
+//! directions as the CPU backend's full buffer without building it.
+
+use std::cell::Cell;
+
+use glam::Vec3;
+
+use crate::projection::{Camera, Projection};
+
+thread_local! {
+    static DIRECTION_BUFFERS: Cell<usize> = const { Cell::new(0) };
+}
+
+/// How many full per-pixel direction buffers ([`PixelDirections::buffer`])
+/// this thread has built: a GPU backend builds none (its shaders derive
+/// each pixel's direction), which tests assert through this count.
+pub fn direction_buffers_built() -> usize {
+    DIRECTION_BUFFERS.with(Cell::get)
+}
+
+/// A camera's pixel-centre directions (ENU, unit; `None` outside the
+/// projection).
+#[derive(Debug, Clone)]
+pub struct PixelDirections<'a> {
+    cam: &'a Camera,
+    w: usize,
+    h: usize,
+    /// Equirect: (sin az, cos az) of each column.
+    columns: Vec<(f32, f32)>,
+}
+
+impl<'a> PixelDirections<'a> {
+    /// The directions of `cam`'s image.
+    pub fn new(cam: &'a Camera) -> Self {
+        let (w, h) = cam.image_size();
+        let (w, h) = (w as usize, h as usize);
+        let columns = if cam.projection == Projection::Equirect {
+            (0..w).map(|x| equirect_column(x, w)).collect()
+        } else {
+            Vec::new()
+        };
+        PixelDirections { cam, w, h, columns }
+    }
+
+    /// The image width and height, pixels.
+    pub fn size(&self) -> (usize, usize) {
+        (self.w, self.h)
+    }
+
+    /// The direction of pixel (x, y)'s centre.
+    #[inline]
+    pub fn dir(&self, x: usize, y: usize) -> Option<Vec3> {
+        match self.cam.projection {
+            Projection::Fisheye => fisheye(x, y, self.w, self.h),
+            Projection::Equirect => {
+                let (sa, ca) = equirect_row(y, self.h);
+                let (s, c) = self.columns[x];
+                Some(Vec3::new(ca * s, ca * c, sa))
+            }
+            _ => self
+                .cam
+                .pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5)
+                .map(|d| d.as_vec3()),
+        }
+    }
+
+    /// Fills `out` (one image row) with the directions of row `y`.
+    pub fn row(&self, y: usize, out: &mut [Option<Vec3>]) {
+        match self.cam.projection {
+            Projection::Equirect => {
+                let (sa, ca) = equirect_row(y, self.h);
+                for (o, &(s, c)) in out.iter_mut().zip(&self.columns) {
+                    *o = Some(Vec3::new(ca * s, ca * c, sa));
+                }
+            }
+            _ => {
+                for (x, o) in out.iter_mut().enumerate() {
+                    *o = self.dir(x, y);
+                }
+            }
+        }
+    }
+
+    /// Every pixel's direction, row-major, computed on all cores (the CPU
+    /// backend's per-pixel geometry).
+    pub fn buffer(&self) -> Vec<Option<Vec3>> {
+        use rayon::prelude::*;
+        DIRECTION_BUFFERS.with(|c| c.set(c.get() + 1));
+        let mut out = vec![None; self.w * self.h];
+        out.par_chunks_mut(self.w.max(1))
+            .enumerate()
+            .for_each(|(y, row)| self.row(y, row));
+        out
+    }
+}
+
+/// Fisheye (azimuthal equidistant, zenith at the centre, North up, East
+/// left): the direction of pixel (x, y) of a `w` × `h` image.
+#[inline]
+fn fisheye(x: usize, y: usize, w: usize, h: usize) -> Option<Vec3> {
+    let r = (w.min(h) as f64 / 2.0) as f32;
+    let dy = (y as f64 + 0.5 - h as f64 / 2.0) as f32;
+    let dx = (x as f64 + 0.5 - w as f64 / 2.0) as f32;
+    let rho = (dx * dx + dy * dy).sqrt();
+    let zenith = std::f32::consts::FRAC_PI_2 * rho / r;
+    if zenith > std::f32::consts::PI {
+        return None;
+    }
+    let (s, c) = zenith.sin_cos();
+    Some(if rho > 0.0 {
+        Vec3::new(-dx / rho * s, -dy / rho * s, c)
+    } else {
+        Vec3::Z
+    })
+}
+
+/// Equirect: (sin az, cos az) of column `x` of `w`.
+fn equirect_column(x: usize, w: usize) -> (f32, f32) {
+    let a = std::f64::consts::TAU * (x as f64 + 0.5) / w as f64;
+    (a.sin() as f32, a.cos() as f32)
+}
+
+/// Equirect: (sin alt, cos alt) of row `y` of `h`.
+#[inline]
+fn equirect_row(y: usize, h: usize) -> (f32, f32) {
+    let alt = std::f64::consts::FRAC_PI_2 - std::f64::consts::PI * (y as f64 + 0.5) / h as f64;
+    (alt.sin() as f32, alt.cos() as f32)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn samples_equal_the_buffer_and_the_camera() {
+        for p in [
+            Projection::Fisheye,
+            Projection::Equirect,
+            Projection::Perspective,
+            Projection::Cubemap,
+        ] {
+            let cam = Camera {
+                projection: p,
+                width: 37,
+                height: 23,
+                ..Camera::default()
+            };
+            let pd = PixelDirections::new(&cam);
+            let before = direction_buffers_built();
+            let buf = pd.buffer();
+            assert_eq!(direction_buffers_built(), before + 1);
+            let (w, h) = pd.size();
+            for y in 0..h {
+                for x in 0..w {
+                    // Bit-identical to the buffer.
+                    assert_eq!(pd.dir(x, y), buf[y * w + x], "{p:?} {x} {y}");
+                    let exact = cam.pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5);
+                    match (pd.dir(x, y), exact) {
+                        (Some(a), Some(b)) => {
+                            assert!((a.as_dvec3() - b).length() < 2e-6, "{p:?} {x} {y}")
+                        }
+                        (a, b) => assert_eq!(a.is_some(), b.is_some(), "{p:?} {x} {y}"),
+                    }
+                }
+            }
+        }
+    }
+}

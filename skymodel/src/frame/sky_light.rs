@@ -1,0 +1,126 @@
+//! The sky's in-scattered light of one frame: the sky-view LUT lit by the
+//! Sun and, on a moonlit night, a second one lit by the Moon
+//! ([`crate::moon::moonlight_scale`]), looked up per view direction.
+//!
+//! Who computes the sky views is the backend's choice ([`SkyViewSource`]):
+//! the CPU on all cores ([`CpuSkyViews`]) or a GPU's compute shaders read
+//! back (`himmel-wgpu`). The frame plan asks for them only when it needs
+//! them on the CPU side (the metering and culling of the night passes);
+//! a backend that draws the atmosphere itself may never ask.
+
+use std::cell::Cell;
+
+use glam::Vec3;
+
+use crate::atmosphere::{AtmosphereLuts, SkyView, SkyViewInput};
+use crate::error::RenderError;
+
+thread_local! {
+    static CPU_SKY_VIEWS: Cell<usize> = const { Cell::new(0) };
+}
+
+/// How many sky-view LUTs this thread has computed on the CPU
+/// ([`cpu_sky_view`]): a GPU backend whose sky view runs on the GPU
+/// computes none, which tests assert through this count.
+pub fn cpu_sky_views_computed() -> usize {
+    CPU_SKY_VIEWS.with(Cell::get)
+}
+
+/// Computes a sky-view LUT on all cores (its rows in parallel).
+pub fn cpu_sky_view(luts: &AtmosphereLuts, input: &SkyViewInput) -> SkyView {
+    use rayon::prelude::*;
+    CPU_SKY_VIEWS.with(|c| c.set(c.get() + 1));
+    let rows = (0..luts.config.sky_view_h)
+        .into_par_iter()
+        .map(|j| SkyView::row(luts, input, j))
+        .collect();
+    SkyView::from_rows(luts, input, rows)
+}
+
+/// Computes the sky views of a frame.
+pub trait SkyViewSource {
+    /// The sky view of each of `inputs` (in order) for `luts`.
+    fn sky_views(
+        &mut self,
+        luts: &AtmosphereLuts,
+        inputs: &[SkyViewInput],
+    ) -> Result<Vec<SkyView>, RenderError>;
+}
+
+/// Sky views computed on the CPU ([`cpu_sky_view`]).
+#[derive(Debug, Default, Clone, Copy)]
+pub struct CpuSkyViews;
+
+impl SkyViewSource for CpuSkyViews {
+    fn sky_views(
+        &mut self,
+        luts: &AtmosphereLuts,
+        inputs: &[SkyViewInput],
+    ) -> Result<Vec<SkyView>, RenderError> {
+        Ok(inputs.iter().map(|i| cpu_sky_view(luts, i)).collect())
+    }
+}
+
+/// The sky-view inputs of a frame: the Sun's and, on a moonlit night, the
+/// Moon's, with the directions their lookups use.
+#[derive(Debug, Clone, Copy)]
+pub struct SkyInputs {
+    /// The sky lit by the Sun (scaled by the visible fraction of its disk).
+    pub sun: SkyViewInput,
+    /// The Sun's ENU direction (unit).
+    pub sun_dir: Vec3,
+    /// The sky lit by the Moon and the Moon's ENU direction (unit).
+    pub moon: Option<(SkyViewInput, Vec3)>,
+}
+
+impl SkyInputs {
+    /// The inputs in order: the Sun's, then the Moon's.
+    pub fn list(&self) -> Vec<SkyViewInput> {
+        let mut v = vec![self.sun];
+        v.extend(self.moon.map(|(i, _)| i));
+        v
+    }
+}
+
+/// The sky radiance of one frame (sunlit, and moonlit when the Moon lights
+/// the sky).
+#[derive(Debug, Clone)]
+pub struct SkyLight {
+    /// The sky lit by the Sun (ground below the horizon included).
+    pub sun: SkyView,
+    /// The Sun's ENU direction (unit).
+    pub sun_dir: Vec3,
+    /// The sky lit by the Moon, and the Moon's ENU direction.
+    pub moon: Option<(SkyView, Vec3)>,
+}
+
+impl SkyLight {
+    /// The sky light from the views of [`SkyInputs::list`] (in that order).
+    pub fn from_views(inputs: &SkyInputs, views: Vec<SkyView>) -> Option<SkyLight> {
+        let mut views = views.into_iter();
+        let sun = views.next()?;
+        let moon = match inputs.moon {
+            Some((_, dir)) => Some((views.next()?, dir)),
+            None => None,
+        };
+        Some(SkyLight {
+            sun,
+            sun_dir: inputs.sun_dir,
+            moon,
+        })
+    }
+
+    /// Sky radiance (linear sRGB, cd/m²) towards ENU `dir` (unit); the
+    /// ground's luminance below the horizon.
+    #[inline]
+    pub fn radiance(&self, dir: Vec3) -> [f32; 3] {
+        let mut l = self.sun.radiance(dir, self.sun_dir);
+        if let Some((sv, m)) = &self.moon {
+            let k = sv.radiance(dir, *m);
+            for c in 0..3 {
+                l[c] += k[c];
+            }
+        }
+        l
+    }
+}

@@ -1,0 +1,284 @@
+//! The pass plan: every effect of the scene, back to front, with whether
+//! its pass runs and, when it does not, why ([`SkipReason`]).
+//!
+//! The plan is made in two steps. [`plan`] (called by
+//! [`crate::SkyState::at`]) decides from the scene and the instant alone:
+//! not requested, not available yet, the Sun's or the Moon's disk below the
+//! horizon, every planet below the horizon. The frame plan
+//! ([`crate::frame::FramePlan`]) then adds what depends on the image: a
+//! night pass that would change no displayed value at the frame's exposure
+//! is culled ([`Culled`]). No module of this crate below the frame plan
+//! imports this one back except `state` and `night`, which only use its
+//! types.
+
+use serde::{Serialize, Serializer};
+
+use crate::moon::{MoonState, MOONLIGHT_BELOW_DEG};
+use crate::scene::{Effect, Scene};
+use crate::stars::PointSource;
+use crate::sun::SunState;
+
+/// Why a pass does not run.
+#[derive(Debug, Clone, PartialEq)]
+pub enum SkipReason {
+    /// The scene's `effects` do not list it.
+    NotRequested,
+    /// The effect has no pass in this version.
+    NotAvailable(Effect),
+    /// The Sun's drawn disk lies entirely below the horizon.
+    SunBelowHorizon,
+    /// The Moon's drawn disk lies entirely below the horizon, at this
+    /// refracted altitude of its centre (degrees).
+    MoonBelowHorizon {
+        /// Refracted altitude of the centre, degrees.
+        alt_refracted_deg: f64,
+    },
+    /// Mercury–Saturn are all below the horizon.
+    PlanetsBelowHorizon,
+    /// Invisible at the frame's exposure.
+    Culled(Culled),
+}
+
+/// Why a night pass is invisible at the frame's exposure
+/// ([`crate::night`]'s culling criterion).
+#[derive(Debug, Clone, PartialEq)]
+pub enum Culled {
+    /// No source of this kind (`star`, `planet`) lies in the field of
+    /// view above the horizon.
+    NoSourceInView(&'static str),
+    /// The brightest candidate's core peak does not show against the sky
+    /// background (both cd/m²) at `ev100`.
+    BackgroundBrighter {
+        /// `star` or `planet`.
+        what: &'static str,
+        /// Sky background at the source, cd/m².
+        background: f32,
+        /// Core peak luminance, cd/m².
+        peak: f32,
+        /// The frame's EV100.
+        ev100: f64,
+    },
+    /// The brightest candidate is below one display level at `ev100`.
+    BelowDisplayLevel {
+        /// `star` or `planet`.
+        what: &'static str,
+        /// Core peak luminance, cd/m².
+        peak: f32,
+        /// The frame's EV100.
+        ev100: f64,
+    },
+    /// The image shows no sky above the horizon (Milky Way).
+    NoSkyInView,
+    /// The diffuse night light changes no sample of the sky background.
+    DiffuseBackgroundBrighter {
+        /// Darkest sampled background, cd/m².
+        background: f32,
+        /// Brightest sampled night light, cd/m².
+        night_light: f32,
+        /// The frame's EV100.
+        ev100: f64,
+    },
+    /// The diffuse night light is below one display level at `ev100`.
+    DiffuseBelowDisplayLevel {
+        /// The frame's EV100.
+        ev100: f64,
+    },
+}
+
+impl std::fmt::Display for Culled {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Culled::NoSourceInView(what) => {
+                write!(f, "no {what} in the field of view above the horizon")
+            }
+            Culled::BackgroundBrighter {
+                what,
+                background,
+                peak,
+                ev100,
+            } => write!(
+                f,
+                "sky background brighter than the brightest visible {what} (background {background:.3e} cd/m², {what} peak {peak:.3e} cd/m² at EV100 {ev100:.1})"
+            ),
+            Culled::BelowDisplayLevel { what, peak, ev100 } => write!(
+                f,
+                "the brightest {what} is below one display level at EV100 {ev100:.1} (peak {peak:.3e} cd/m²)"
+            ),
+            Culled::NoSkyInView => f.write_str("no sky above the horizon in the field of view"),
+            Culled::DiffuseBackgroundBrighter {
+                background,
+                night_light,
+                ev100,
+            } => write!(
+                f,
+                "sky background brighter than the Milky Way and night-sky light (background ≥ {background:.3e} cd/m², night light ≤ {night_light:.3e} cd/m² at EV100 {ev100:.1})"
+            ),
+            Culled::DiffuseBelowDisplayLevel { ev100 } => write!(
+                f,
+                "the night-sky light is below one display level at EV100 {ev100:.1}"
+            ),
+        }
+    }
+}
+
+impl std::fmt::Display for SkipReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            SkipReason::NotRequested => f.write_str("not requested"),
+            SkipReason::NotAvailable(e) => write!(
+                f,
+                "not available yet: the {} pass arrives with a later version",
+                e.name()
+            ),
+            SkipReason::SunBelowHorizon => f.write_str("the Sun's disk is below the horizon"),
+            SkipReason::MoonBelowHorizon { alt_refracted_deg } => {
+                write!(
+                    f,
+                    "the Moon's disk is below the horizon (refracted altitude {alt_refracted_deg:.2}°; the moonlit sky is part of the atmosphere pass"
+                )?;
+                if *alt_refracted_deg < MOONLIGHT_BELOW_DEG {
+                    write!(f, ", which leaves it out below {MOONLIGHT_BELOW_DEG}°")?;
+                }
+                f.write_str(")")
+            }
+            SkipReason::PlanetsBelowHorizon => f.write_str("every planet is below the horizon"),
+            SkipReason::Culled(c) => c.fmt(f),
+        }
+    }
+}
+
+impl Serialize for SkipReason {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.collect_str(self)
+    }
+}
+
+/// Whether a pass runs, and if not, why.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PlannedPass {
+    /// The effect.
+    pub effect: Effect,
+    /// Whether it runs.
+    pub run: bool,
+    /// Why it does not run.
+    pub reason: Option<SkipReason>,
+}
+
+impl PlannedPass {
+    /// Marks the pass as not running, for `reason` (the first reason wins).
+    pub fn skip(&mut self, reason: SkipReason) {
+        if self.run {
+            self.run = false;
+            self.reason = Some(reason);
+        }
+    }
+}
+
+/// The pass plan of `scene` at an instant with this Sun, Moon and these
+/// planets (refracted ENU directions): every effect, back to front.
+pub fn plan(
+    scene: &Scene,
+    sun: &SunState,
+    moon: &MoonState,
+    planets: &[PointSource],
+) -> Vec<PlannedPass> {
+    Effect::ALL
+        .into_iter()
+        .map(|e| {
+            let reason = if !scene.wants(e) {
+                Some(SkipReason::NotRequested)
+            } else if !e.available() {
+                Some(SkipReason::NotAvailable(e))
+            } else {
+                match e {
+                    Effect::Sun => sun_below_horizon(scene, sun),
+                    Effect::Moon => moon_below_horizon(scene, moon),
+                    Effect::Planets if planets.iter().all(|s| s.dir.z < 0.0) => {
+                        Some(SkipReason::PlanetsBelowHorizon)
+                    }
+                    _ => None,
+                }
+            };
+            PlannedPass {
+                effect: e,
+                run: reason.is_none(),
+                reason,
+            }
+        })
+        .collect()
+}
+
+/// The Sun pass does not run when its drawn disk lies entirely below the
+/// horizon (refracted altitude + drawn radius < 0°).
+fn sun_below_horizon(scene: &Scene, sun: &SunState) -> Option<SkipReason> {
+    let top = sun.alt_refracted_deg + (sun.angular_radius * scene.sun_scale).to_degrees();
+    (top < 0.0).then_some(SkipReason::SunBelowHorizon)
+}
+
+/// The Moon pass does not run when the drawn disk lies entirely below the
+/// horizon (refracted altitude + drawn radius < 0°). The threshold is the
+/// horizon itself because the Moon pass draws only the disk (the ground
+/// hides what is below the horizon); the moonlit sky belongs to the
+/// atmosphere pass ([`crate::moon::moonlight_scale`], down to
+/// [`MOONLIGHT_BELOW_DEG`]).
+fn moon_below_horizon(scene: &Scene, moon: &MoonState) -> Option<SkipReason> {
+    let top = moon.alt_refracted_deg + (moon.angular_radius * scene.moon_scale).to_degrees();
+    (top < 0.0).then_some(SkipReason::MoonBelowHorizon {
+        alt_refracted_deg: moon.alt_refracted_deg,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn reasons_read_as_before() {
+        assert_eq!(SkipReason::NotRequested.to_string(), "not requested");
+        assert_eq!(
+            SkipReason::NotAvailable(Effect::Clouds).to_string(),
+            "not available yet: the clouds pass arrives with a later version"
+        );
+        assert_eq!(
+            SkipReason::MoonBelowHorizon {
+                alt_refracted_deg: -10.0
+            }
+            .to_string(),
+            "the Moon's disk is below the horizon (refracted altitude -10.00°; the moonlit sky is part of the atmosphere pass, which leaves it out below -6°)"
+        );
+        assert_eq!(
+            SkipReason::MoonBelowHorizon {
+                alt_refracted_deg: -2.0
+            }
+            .to_string(),
+            "the Moon's disk is below the horizon (refracted altitude -2.00°; the moonlit sky is part of the atmosphere pass)"
+        );
+        let c = Culled::BackgroundBrighter {
+            what: "star",
+            background: 5190.0,
+            peak: 12.5,
+            ev100: 15.06,
+        };
+        assert_eq!(
+            SkipReason::Culled(c).to_string(),
+            "sky background brighter than the brightest visible star (background 5.190e3 cd/m², star peak 1.250e1 cd/m² at EV100 15.1)"
+        );
+        assert_eq!(
+            serde_json::to_string(&SkipReason::PlanetsBelowHorizon).unwrap(),
+            "\"every planet is below the horizon\""
+        );
+    }
+
+    #[test]
+    fn skip_keeps_the_first_reason() {
+        let mut p = PlannedPass {
+            effect: Effect::Stars,
+            run: true,
+            reason: None,
+        };
+        p.skip(SkipReason::PlanetsBelowHorizon);
+        p.skip(SkipReason::NotRequested);
+        assert!(!p.run);
+        assert_eq!(p.reason, Some(SkipReason::PlanetsBelowHorizon));
+    }
+}
