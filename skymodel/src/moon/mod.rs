@@ -100,7 +100,7 @@ pub use photometry::{
     HAPKE_H, HAPKE_S_COEFF, LUX_MAG0, MEAN_MOON_DISTANCE_KM, SURGE_B0, SURGE_H,
 };
 pub use shader::{
-    refraction_of_apparent, unrefract, MoonEclipse, MoonEclipseParts, MoonShader, MoonShaderParts,
+    refraction_of_apparent, unrefract, MoonEclipse, MoonShader,
     REFRACTION_FRAME_BELOW_DEG,
 };
 
@@ -309,7 +309,7 @@ impl MoonState {
 pub fn moon_state(
     sky: &himmel_astro::Sky,
     observer: &himmel_astro::Observer,
-    sun: &crate::state::SunState,
+    sun: &crate::sun::SunState,
 ) -> Result<(MoonState, f64), himmel_astro::AstroError> {
     use himmel_astro::Body;
     let mg = sky.apparent(Body::Moon)?;
@@ -339,33 +339,6 @@ pub fn moon_state(
     Ok((state, (1.0 - covered).clamp(0.0, 1.0)))
 }
 
-/// The Moon's entry of the pass plan: the pass does not run when the
-/// drawn disk lies entirely below the horizon (refracted altitude +
-/// drawn radius < 0°). The threshold is the horizon itself because the
-/// Moon pass draws only the disk (the ground hides what is below the
-/// horizon); the moonlit sky belongs to the atmosphere pass
-/// ([`moonlight_scale`], down to [`MOONLIGHT_BELOW_DEG`]).
-pub fn plan_moon(passes: &mut [crate::state::PlannedPass], scene: &crate::Scene, moon: &MoonState) {
-    for p in passes.iter_mut() {
-        if p.effect != crate::Effect::Moon || !p.run {
-            continue;
-        }
-        let top = moon.alt_refracted_deg + (moon.angular_radius * scene.moon_scale).to_degrees();
-        if top < 0.0 {
-            p.run = false;
-            p.reason = Some(format!(
-                "the Moon's disk is below the horizon (refracted altitude {:.2}°; the moonlit sky is part of the atmosphere pass{})",
-                moon.alt_refracted_deg,
-                if moon.alt_refracted_deg < MOONLIGHT_BELOW_DEG {
-                    format!(", which leaves it out below {MOONLIGHT_BELOW_DEG}°")
-                } else {
-                    String::new()
-                }
-            ));
-        }
-    }
-}
-
 /// Below this refracted altitude, degrees, the Moon lights no sky worth
 /// computing (its light then reaches the observer's sky only through the
 /// twilight arch, which is below 10⁻³ of its light).
@@ -383,7 +356,7 @@ pub const MOONLIGHT_BELOW_DEG: f64 = -6.0;
 /// 100 nm in [`lunar_reflectance_spectrum`], is left out of the sky).
 pub fn moonlight_scale(
     scene: &crate::Scene,
-    sun: &crate::state::SunState,
+    sun: &crate::sun::SunState,
     moon: &MoonState,
     celestial_pole: Vec3,
 ) -> Option<f64> {

@@ -2,7 +2,7 @@
 //! ([`MoonShader`], with its lunar-eclipse part [`MoonEclipse`]), and
 //! Bennett's refraction across a low Moon's disk ([`unrefract`]).
 
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 
 use super::eclipse::{eclipse_transfer, ECLIPSE_TABLE_N};
 use super::maps::{fast_atan2, AlbedoMap, NormalMap};
@@ -133,85 +133,7 @@ pub struct MoonEclipse {
     pub table: Vec<[f32; 3]>,
 }
 
-/// [`MoonShader`]'s per-frame constants and tables ([`MoonShader::parts`]);
-/// the fields are those of [`MoonShader::new`] (sky frame: x east, y north,
-/// z towards the observer).
-#[derive(Debug, Clone, PartialEq)]
-pub struct MoonShaderParts {
-    /// Centre direction (ENU, unit, refracted).
-    pub centre: Vec3,
-    /// Drawn angular radius, radians.
-    pub radius: f32,
-    /// Sine of the drawn radius.
-    pub sin_radius: f32,
-    /// Celestial east and north at the disk's (airless, when `refract`)
-    /// centre, ENU unit vectors ([`MoonShader::sky_xy`]).
-    pub east: Vec3,
-    /// See `east`.
-    pub north: Vec3,
-    /// Whether pixel directions are un-refracted first ([`unrefract`]).
-    pub refract: bool,
-    /// Unit vector from the Moon to the Sun in the sky frame.
-    pub sun: Vec3,
-    /// Selenographic axes X, Y, Z in the sky frame.
-    pub axes: [Vec3; 3],
-    /// B(g) S(g) p/π normalised as in [`MoonShader::radiance`].
-    pub sun_factor: f32,
-    /// Linear sRGB of the sunlight and of the earthshine at the centre's
-    /// extinction (cd/m² per unit BRDF factor).
-    pub sun_rgb: [f32; 3],
-    /// See `sun_rgb`.
-    pub earth_rgb: [f32; 3],
-    /// First node and spacing (zenith cosine) of `ext`.
-    pub ext_z0: f32,
-    /// See `ext_z0`.
-    pub ext_dz: f32,
-    /// Extinction relative to the centre's per node, linear sRGB factors.
-    pub ext: Vec<[f32; 3]>,
-    /// The lunar-eclipse shading, when it runs.
-    pub eclipse: Option<MoonEclipseParts>,
-}
-
-/// The lunar-eclipse part of [`MoonShaderParts`].
-#[derive(Debug, Clone, PartialEq)]
-pub struct MoonEclipseParts {
-    /// The Moon centre's offset from the shadow axis (east, north), radians.
-    pub offset: [f32; 2],
-    /// The Moon's geocentric semidiameter, radians.
-    pub semidiameter: f32,
-    /// Geocentric sky east and north in the Moon's topocentric sky frame.
-    pub geo_east: Vec3,
-    /// See `geo_east`.
-    pub geo_north: Vec3,
-    /// Axis distance (radians) of the table's last node.
-    pub d_max: f32,
-    /// Sunlight relative to the uneclipsed Sun's at axis distances
-    /// d_max · k / ([`ECLIPSE_TABLE_N`] − 1), linear sRGB factors.
-    pub table: Vec<[f32; 3]>,
-}
-
 impl MoonShader {
-    /// The shader for the frame's Moon as the Moon passes draw it: the
-    /// scene's `moon_scale`, its atmosphere, the state's celestial pole,
-    /// seen from radius `r0` (km) through `luts` when the atmosphere runs
-    /// ([`MoonShader::new`]).
-    pub fn for_frame(
-        scene: &crate::Scene,
-        state: &crate::SkyState,
-        luts: Option<&AtmosphereLuts>,
-        r0: f32,
-    ) -> MoonShader {
-        let pole = DVec3::from_array(state.celestial_pole).as_vec3();
-        MoonShader::new(
-            &state.moon,
-            scene.moon_scale,
-            luts,
-            r0,
-            pole,
-            &scene.atmosphere,
-        )
-    }
-
     /// The shader for `moon` drawn `scale` times its true size; with
     /// `luts` the extinction along the line of sight from radius `r0` (km
     /// from the Earth's centre) is applied; `celestial_pole` is the ENU
@@ -460,36 +382,6 @@ impl MoonShader {
             Vec3::new(x, y, (1.0 - r * r).sqrt())
         };
         Some((self.radiance(p, d.z), cov))
-    }
-
-    /// The shader's per-frame constants and tables, for a backend that
-    /// evaluates [`MoonShader::radiance`] and [`MoonShader::shade`]
-    /// elsewhere (the wgpu backend's WGSL port).
-    pub fn parts(&self) -> MoonShaderParts {
-        MoonShaderParts {
-            centre: self.centre,
-            radius: self.radius,
-            sin_radius: self.sin_radius,
-            east: self.east,
-            north: self.north,
-            refract: self.refract,
-            sun: self.sun,
-            axes: self.axes,
-            sun_factor: self.sun_factor,
-            sun_rgb: self.sun_rgb,
-            earth_rgb: self.earth_rgb,
-            ext_z0: self.ext_z0,
-            ext_dz: self.ext_dz,
-            ext: self.ext.clone(),
-            eclipse: self.eclipse.as_ref().map(|e| MoonEclipseParts {
-                offset: e.offset,
-                semidiameter: e.semidiameter,
-                geo_east: e.geo_east,
-                geo_north: e.geo_north,
-                d_max: e.d_max,
-                table: e.table.clone(),
-            }),
-        }
     }
 
     /// Luminance of [`MoonShader::radiance`] (for tests and metering).
