@@ -31,9 +31,10 @@ pub use himmel_skymodel::frame::luts::default_cache_dir;
 
 /// A terminal progress bar for the LUT precomputation (stderr, drawn
 /// only when it is a terminal).
-struct Bar(std::sync::Mutex<Option<indicatif::ProgressBar>>);
+#[derive(Debug, Default)]
+pub struct TerminalProgress(std::sync::Mutex<Option<indicatif::ProgressBar>>);
 
-impl LutProgress for Bar {
+impl LutProgress for TerminalProgress {
     fn start(&self, total: usize) {
         let b = indicatif::ProgressBar::new(total as u64);
         b.set_message("atmosphere LUTs");
@@ -54,7 +55,7 @@ impl LutProgress for Bar {
 /// Computes the parameter-dependent LUTs on all cores, with a progress bar
 /// on stderr when `progress` is set and stderr is a terminal.
 pub fn precompute(params: &AtmosphereParams, config: &LutConfig, progress: bool) -> AtmosphereLuts {
-    let bar = Bar(std::sync::Mutex::new(None));
+    let bar = TerminalProgress::default();
     let p: Option<&dyn LutProgress> = if progress { Some(&bar) } else { None };
     himmel_skymodel::frame::luts::precompute(params, config, p)
 }
@@ -92,7 +93,7 @@ impl CpuRenderer {
     /// long LUT precomputation.
     pub fn set_progress(&mut self, on: bool) {
         let bar: Option<Arc<dyn LutProgress>> = if on {
-            Some(Arc::new(Bar(std::sync::Mutex::new(None))))
+            Some(Arc::new(TerminalProgress::default()))
         } else {
             None
         };

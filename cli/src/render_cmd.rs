@@ -331,7 +331,9 @@ fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), 
     }
     match himmel_wgpu::WgpuRenderer::new(himmel_cpu::default_cache_dir()) {
         Ok(mut r) => {
-            r.set_progress(true);
+            r.set_progress(Some(std::sync::Arc::new(
+                himmel_cpu::TerminalProgress::default(),
+            )));
             let timing = r.timing().name();
             Ok((Box::new(r), timing))
         }
