@@ -2,8 +2,9 @@
 //! Metal, DX12 — any adapter, software ones such as Mesa's lavapipe
 //! included).
 //!
-//! Every sky pass is a WGSL compute shader (`src/shaders/sky.wgsl`) that
-//! adds its radiance (linear sRGB, cd/m², conventions.md Photometry) into
+//! Every sky pass is a WGSL compute shader (`src/shaders/`: one file per
+//! pass after `frame.wgsl`, the bindings and projection helpers they share,
+//! compiled as one module per pass, [`uniforms`]) that adds its radiance (linear sRGB, cd/m², conventions.md Photometry) into
 //! a per-pixel accumulation buffer, back to front, as the CPU reference
 //! renderer (`himmel-cpu`) does; a final `store` pass writes the frame into
 //! an `rgba32float` texture: one layer for fisheye, equirect and
@@ -52,7 +53,7 @@
 //!   extinction, normalisations of the core and the glare disk) and bins it
 //!   into [`POINT_TILE`]² tiles ([`point_lists`]). Two ways to draw them
 //!   ([`WgpuRenderer::set_point_method`]), both evaluating the same WGSL
-//!   footprint function (sky.wgsl `point_footprint`, the CPU's `splat_at`)
+//!   footprint function (points.wgsl `point_footprint`, the CPU's `splat_at`)
 //!   on the same records: [`PointMethod::Tiles`], one invocation per pixel
 //!   of each non-empty tile summing the footprints of its tile's list over
 //!   the pixel's solid angle (no atomics); [`PointMethod::Quads`]
@@ -88,7 +89,7 @@
 //!   where the rasteriser touches only the footprints' pixels (no hardware
 //!   GPU was lent to measure them there).
 //!
-//! * Moon (`src/shaders/moon.wgsl`, compiled after `sky.wgsl` in one
+//! * Moon (`src/shaders/moon.wgsl`, compiled after `frame.wgsl` in one
 //!   module, with its own bind group 1): skymodel moon.rs
 //!   `MoonShader::{sky_xy, surface_point, radiance, shade}` and cpu
 //!   moon_pass.rs `render` per pixel of the disk's bounding rectangle
@@ -110,10 +111,11 @@
 //!   transmittance tabulated over the zenith cosine) is a second dispatch
 //!   of the Sun pass over the rectangle within 6 R☉.
 //!
-//! Adding a pass: a WGSL entry point of
-//! the same shape as `atmosphere`/`sun` that adds into `accum` (extra
-//! tables go into further bindings, or a second bind group as the Moon's),
-//! a pipeline in `Pipelines`, and its `Effect` arm where `render_frame`
+//! Adding a pass: a WGSL file with an entry point of the same shape as
+//! `atmosphere`/`sun` that adds into `accum` (extra tables go into further
+//! bindings, or a second bind group as the Moon's), its module constant
+//! (frame.wgsl + the file) in [`uniforms`], a pipeline in `Pipelines`, and
+//! its `Effect` arm where `render_frame`
 //! maps planned passes to pipelines and dispatch rectangles; the parity
 //! tests then compare it with the CPU pass.
 //!
@@ -137,7 +139,7 @@ use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
 pub use luts::LutSource;
-use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
+use uniforms::{projection_code, SKYVIEW_WGSL};
 pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms, PointRecord};
 
 /// Nodes of the Sun table in normalised disk radius ρ.
@@ -194,12 +196,12 @@ impl Timing {
 }
 
 /// How the stars' and planets' footprints are drawn. Both evaluate the
-/// same per-pixel footprint (sky.wgsl `point_footprint`) from the same
+/// same per-pixel footprint (points.wgsl `point_footprint`) from the same
 /// records ([`point_lists`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PointMethod {
     /// Compute passes: one workgroup per non-empty 8 × 8 tile, each pixel
-    /// sums the footprints listed for its tile (sky.wgsl `stars`/`planets`).
+    /// sums the footprints listed for its tile (points.wgsl `stars`/`planets`).
     Tiles,
     /// A render pass: one instanced quad per footprint record (vertex +
     /// fragment shaders, no geometry shader, quads.wgsl), added by the blend
@@ -412,7 +414,7 @@ impl PoolBinding {
     }
 }
 
-/// The Moon pass and the corona (sky.wgsl + moon.wgsl): bind group 0 is
+/// The Moon pass and the corona (frame.wgsl + moon.wgsl): bind group 0 is
 /// the sky passes', bind group 1 the Moon's uniform and maps.
 struct MoonPipelines {
     layout: wgpu::BindGroupLayout,
@@ -523,11 +525,11 @@ impl WgpuRenderer {
         })
     }
 
+    /// The image passes: one shader module per pass ([`uniforms`]), one
+    /// bind group layout for all (every module declares the same group 0,
+    /// frame.wgsl; the explicit pipeline layout holds the bindings a pass
+    /// does not use), so one bind group per band serves every pass.
     fn pipelines(device: &wgpu::Device) -> Pipelines {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("sky.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(SKY_WGSL.into()),
-        });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sky"),
             entries: &[
@@ -552,14 +554,41 @@ impl WgpuRenderer {
                 storage_entry(9, true),
             ],
         });
-        let pipeline = compute_pipelines(device, &module, &layout, "sky");
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sky"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let module = |label, wgsl: &str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            })
+        };
+        let pipeline = |module: &wgpu::ShaderModule, entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pl),
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let points = module("points.wgsl", uniforms::POINTS_WGSL);
         Pipelines {
-            atmosphere: pipeline("atmosphere"),
-            sun: pipeline("sun"),
-            milkyway: pipeline("milkyway"),
-            stars: pipeline("stars"),
-            planets: pipeline("planets"),
-            store: pipeline("store"),
+            atmosphere: pipeline(
+                &module("atmosphere.wgsl", uniforms::ATMOSPHERE_WGSL),
+                "atmosphere",
+            ),
+            sun: pipeline(&module("sun.wgsl", uniforms::SUN_WGSL), "sun"),
+            milkyway: pipeline(
+                &module("milkyway.wgsl", uniforms::MILKYWAY_WGSL),
+                "milkyway",
+            ),
+            stars: pipeline(&points, "stars"),
+            planets: pipeline(&points, "planets"),
+            store: pipeline(&module("store.wgsl", uniforms::STORE_WGSL), "store"),
             layout,
         }
     }
@@ -2509,7 +2538,8 @@ mod tests {
     /// is the tile size (the quads' resolve passes too).
     #[test]
     fn point_workgroups_are_tiles() {
-        let module = naga::front::wgsl::parse_str(uniforms::SKY_WGSL).expect("sky.wgsl parses");
+        let module =
+            naga::front::wgsl::parse_str(uniforms::POINTS_WGSL).expect("points.wgsl parses");
         for name in ["stars", "planets"] {
             let e = module.entry_points.iter().find(|e| e.name == name).unwrap();
             assert_eq!(e.workgroup_size, [POINT_TILE, POINT_TILE, 1], "{name}");

@@ -4,7 +4,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-/// Projection codes of `Frame.size.z` in `sky.wgsl`.
+/// Projection codes of `Frame.size.z` (src/shaders/frame.wgsl).
 pub mod projection_code {
     /// All-sky azimuthal equidistant.
     pub const FISHEYE: u32 = 0;
@@ -16,7 +16,7 @@ pub mod projection_code {
     pub const CUBEMAP: u32 = 3;
 }
 
-/// Mirror of WGSL `struct Frame` (src/shaders/sky.wgsl): per-frame
+/// Mirror of WGSL `struct Frame` (src/shaders/frame.wgsl): per-frame
 /// camera, Sun and table parameters. 176 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -85,7 +85,7 @@ pub struct AtmosphereUniforms {
     pub dims2: [u32; 4],
 }
 
-/// Mirror of WGSL `struct Night` (src/shaders/sky.wgsl): the per-frame
+/// Mirror of WGSL `struct Night` (src/shaders/frame.wgsl): the per-frame
 /// constants of the Milky Way pass (skymodel milkyway.rs
 /// `NightBackground`) and of the point-source passes. 160 bytes.
 #[repr(C)]
@@ -116,7 +116,7 @@ pub struct NightUniforms {
     pub busy: [u32; 4],
 }
 
-/// Mirror of WGSL `struct Point` (src/shaders/sky.wgsl): one point
+/// Mirror of WGSL `struct Point` (src/shaders/frame.wgsl): one point
 /// source's footprint (`himmel_skymodel::stars::SplatPlan`). 48 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
@@ -201,26 +201,57 @@ const _: () = assert!(MOON_ECL + himmel_skymodel::moon::ECLIPSE_TABLE_N <= MOON_
 const _: () = assert!(MOON_COR + MOON_COR_N == MOON_TABLE_ROWS);
 const _: () = assert!(std::mem::size_of::<MoonUniforms>() + 16 * MOON_TABLE_ROWS <= 65536);
 
-/// The WGSL source of the image passes: `sky.wgsl` and the bilinear
-/// lookup it shares with the LUT passes (`bilinear.wgsl`).
-pub const SKY_WGSL: &str = concat!(
-    include_str!("shaders/sky.wgsl"),
+// One WGSL module per pass: frame.wgsl (the group-0 bindings, the uniform
+// structs and the projection helpers every image pass uses) followed by the
+// pass's file and what it calls. `concat!` takes literals only, hence the
+// repeated `include_str!`.
+
+/// The atmosphere pass: frame.wgsl, atmosphere.wgsl and the bilinear
+/// lookup it shares with the LUT passes (bilinear.wgsl).
+pub const ATMOSPHERE_WGSL: &str = concat!(
+    include_str!("shaders/frame.wgsl"),
+    include_str!("shaders/atmosphere.wgsl"),
     include_str!("shaders/bilinear.wgsl")
 );
 
-/// The WGSL source of the Moon and corona passes: [`SKY_WGSL`] followed by
-/// `moon.wgsl` (one module; its own bind group 1).
+/// The Sun pass: frame.wgsl and sun.wgsl.
+pub const SUN_WGSL: &str = concat!(
+    include_str!("shaders/frame.wgsl"),
+    include_str!("shaders/sun.wgsl")
+);
+
+/// The Milky Way pass: frame.wgsl and milkyway.wgsl.
+pub const MILKYWAY_WGSL: &str = concat!(
+    include_str!("shaders/frame.wgsl"),
+    include_str!("shaders/milkyway.wgsl")
+);
+
+/// The tiled point-source passes (stars, planets): frame.wgsl and
+/// points.wgsl.
+pub const POINTS_WGSL: &str = concat!(
+    include_str!("shaders/frame.wgsl"),
+    include_str!("shaders/points.wgsl")
+);
+
+/// The store pass: frame.wgsl and store.wgsl.
+pub const STORE_WGSL: &str = concat!(
+    include_str!("shaders/frame.wgsl"),
+    include_str!("shaders/store.wgsl")
+);
+
+/// The Moon and corona passes: frame.wgsl and moon.wgsl (its own bind
+/// group 1).
 pub const MOON_WGSL: &str = concat!(
-    include_str!("shaders/sky.wgsl"),
-    include_str!("shaders/bilinear.wgsl"),
+    include_str!("shaders/frame.wgsl"),
     include_str!("shaders/moon.wgsl")
 );
 
-/// The WGSL source of the point sources as instanced quads: [`SKY_WGSL`]
-/// followed by `quads.wgsl` (one module; the quad target in bind group 1).
+/// The point sources as instanced quads: frame.wgsl, points.wgsl (the
+/// footprint and tile helpers) and quads.wgsl (the quad target in bind
+/// group 1).
 pub const QUADS_WGSL: &str = concat!(
-    include_str!("shaders/sky.wgsl"),
-    include_str!("shaders/bilinear.wgsl"),
+    include_str!("shaders/frame.wgsl"),
+    include_str!("shaders/points.wgsl"),
     include_str!("shaders/quads.wgsl")
 );
 
@@ -280,7 +311,7 @@ pub(crate) mod tests {
             ("moon", offset_of!(FrameUniforms, moon)),
             ("eclipse", offset_of!(FrameUniforms, eclipse)),
         ];
-        assert_wgsl_layout(SKY_WGSL, "Frame", size_of::<FrameUniforms>(), &rust);
+        assert_wgsl_layout(STORE_WGSL, "Frame", size_of::<FrameUniforms>(), &rust);
     }
 
     #[test]
@@ -298,7 +329,7 @@ pub(crate) mod tests {
             ("psf", offset_of!(NightUniforms, psf)),
             ("busy", offset_of!(NightUniforms, busy)),
         ];
-        assert_wgsl_layout(SKY_WGSL, "Night", size_of::<NightUniforms>(), &rust);
+        assert_wgsl_layout(STORE_WGSL, "Night", size_of::<NightUniforms>(), &rust);
     }
 
     /// `PointRecord` has the size and offsets naga computes for `Point`.
@@ -310,7 +341,7 @@ pub(crate) mod tests {
             ("b", offset_of!(PointRecord, b)),
             ("c", offset_of!(PointRecord, c)),
         ];
-        assert_wgsl_layout(SKY_WGSL, "Point", size_of::<PointRecord>(), &rust);
+        assert_wgsl_layout(STORE_WGSL, "Point", size_of::<PointRecord>(), &rust);
     }
 
     #[test]
@@ -381,62 +412,56 @@ pub(crate) mod tests {
         }
     }
 
-    /// The Moon module (sky.wgsl + moon.wgsl) validates.
+    /// Every pass's module parses and validates on its own (naga, all
+    /// checks; with all capabilities, and with none, as a baseline adapter
+    /// offers) and holds the entry points its pipelines use.
     #[test]
-    fn moon_shader_validates() {
-        let module = naga::front::wgsl::parse_str(MOON_WGSL).expect("moon.wgsl parses");
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::empty(),
-        )
-        .validate(&module)
-        .expect("moon.wgsl validates");
-        for e in ["moon_disk", "corona"] {
-            assert!(module.entry_points.iter().any(|p| p.name == e), "{e}");
+    fn every_pass_module_validates() {
+        let modules = [
+            ("atmosphere", ATMOSPHERE_WGSL, &["atmosphere"][..]),
+            ("sun", SUN_WGSL, &["sun"]),
+            ("milkyway", MILKYWAY_WGSL, &["milkyway"]),
+            ("points", POINTS_WGSL, &["stars", "planets"]),
+            ("store", STORE_WGSL, &["store"]),
+            ("moon", MOON_WGSL, &["moon_disk", "corona"]),
+            (
+                "quads",
+                QUADS_WGSL,
+                &[
+                    "stars",
+                    "planets",
+                    "quad_vs",
+                    "quad_clear_vs",
+                    "quad_clear_fs",
+                    "quad_fs",
+                    "quad_resolve_stars",
+                    "quad_resolve_planets",
+                ],
+            ),
+            ("skyview", SKYVIEW_WGSL, &["sky_view", "ground"]),
+            (
+                "luts",
+                crate::luts::LUTS_WGSL,
+                &["transmittance", "multiscatter"],
+            ),
+        ];
+        for (name, wgsl, entries) in modules {
+            let module = naga::front::wgsl::parse_str(wgsl)
+                .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(wgsl)));
+            for caps in [
+                naga::valid::Capabilities::all(),
+                naga::valid::Capabilities::empty(),
+            ] {
+                naga::valid::Validator::new(naga::valid::ValidationFlags::all(), caps)
+                    .validate(&module)
+                    .unwrap_or_else(|e| panic!("{name} ({caps:?}): {e:?}"));
+            }
+            let names: Vec<_> = module
+                .entry_points
+                .iter()
+                .map(|e| e.name.as_str())
+                .collect();
+            assert_eq!(names, entries, "{name}");
         }
-    }
-
-    /// sky.wgsl + quads.wgsl validate; the point-source quads have their
-    /// vertex, fragment and resolve entry points.
-    #[test]
-    fn quads_shader_validates() {
-        let module = naga::front::wgsl::parse_str(QUADS_WGSL).expect("quads.wgsl parses");
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::empty(),
-        )
-        .validate(&module)
-        .expect("quads.wgsl validates");
-        for e in [
-            "quad_vs",
-            "quad_fs",
-            "quad_clear_vs",
-            "quad_clear_fs",
-            "quad_resolve_stars",
-            "quad_resolve_planets",
-        ] {
-            assert!(module.entry_points.iter().any(|p| p.name == e), "{e}");
-        }
-    }
-
-    /// The shader validates (all entry points) under naga's default rules.
-    #[test]
-    fn shader_validates() {
-        let module = naga::front::wgsl::parse_str(SKY_WGSL).expect("sky.wgsl parses");
-        naga::valid::Validator::new(
-            naga::valid::ValidationFlags::all(),
-            naga::valid::Capabilities::empty(),
-        )
-        .validate(&module)
-        .expect("sky.wgsl validates");
-        let names: Vec<_> = module
-            .entry_points
-            .iter()
-            .map(|e| e.name.as_str())
-            .collect();
-        assert_eq!(
-            names,
-            ["atmosphere", "sun", "milkyway", "stars", "planets", "store"]
-        );
     }
 }

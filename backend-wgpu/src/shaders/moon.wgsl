@@ -1,6 +1,6 @@
 // Himmel wgpu backend: the Moon pass and the solar-eclipse corona.
 //
-// Compiled after sky.wgsl in one module (it uses `frame`, `accum`,
+// Compiled after frame.wgsl in one module (it uses `frame`, `accum`,
 // `pixel_dir`), with its own bind group 1: the per-frame `Moon` uniform
 // (constants and tables of skymodel moon.rs `MoonShader`, tabulated on the
 // CPU) and the lunar albedo and normal maps (uploaded once).

@@ -1,15 +1,16 @@
-
-// ---- quads.wgsl (compiled after sky.wgsl in one module) ----------------
-//
-// Point sources as instanced quads (`PointMethod::Quads`): one instance per
+// Himmel wgpu backend: the point sources as instanced quads
+// (`PointMethod::Quads`; compiled after frame.wgsl and points.wgsl in one
+// module, with the quad target in bind group 1). One instance per
 // footprint record (`points`, the same records as the tiled passes), six
 // vertices per instance (two triangles, no geometry shader) covering the
 // record's pixel bounds — the core's (2r + 1)² pixels and the glare disk's
 // — within the current band (and, in a cube map, within the record's
-// face); the fragment shader evaluates `point_footprint` (sky.wgsl) at the
-// pixel and returns radiance, added by the blend state (One, One) into a
-// float target of the band's size. `quad_resolve_*` then adds that target
-// into `accum` at the pass's place in the pass order.
+// face); the fragment shader evaluates `point_footprint` (points.wgsl) at
+// the pixel and returns radiance, added by the blend state (One, One) into
+// a float target of the band's size. `quad_resolve_*` then adds that
+// target into `accum` at the pass's place in the pass order. Its uniforms
+// are `Frame` and `Night`, its records `Point` (Rust `FrameUniforms`,
+// `NightUniforms`, `PointRecord`).
 
 // The quad target of the band, read by `quad_resolve`.
 @group(1) @binding(0) var quad_src: texture_2d<f32>;
@@ -105,7 +106,7 @@ fn quad_fs(q: QuadOut) -> @location(0) vec4<f32> {
 
 // Adds the band's quad target into `accum` over the list's non-empty
 // 8 × 8 tiles (every quad lies within the tiles its record is listed in):
-// one workgroup per tile, as the tiled passes (sky.wgsl `point_sources`).
+// one workgroup per tile, as the tiled passes (points.wgsl `point_sources`).
 fn quad_resolve(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, first: u32, n: u32) {
     let tp = busy_tile_pixel(wg, nwg, lid, first, n);
     if (!tp.ok) {
