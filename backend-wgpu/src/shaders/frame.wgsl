@@ -12,33 +12,63 @@
 //
 // The Rust mirrors (src/uniforms.rs): `Frame` is `FrameUniforms`, `Night`
 // is `NightUniforms`, `Point` is `PointRecord`; tests check the layouts
-// naga computes for these structs against them.
+// naga computes for these structs against them. A vec3<f32> has alignment
+// 16 and size 12 (WGSL spec, "Alignment and Size"), so each is followed by a
+// 4-byte scalar: a quantity of its own, or a `_pad` field that the Rust
+// mirror spells out as well.
 
 struct Frame {
-    // image width, height (the strip for a cube map), projection
-    // (0 fisheye, 1 equirect, 2 perspective, 3 cubemap), cube face size
-    size: vec4<u32>,
-    // perspective basis (ENU): forward (w: tan(fov/2)), right, up
-    persp_f: vec4<f32>,
-    persp_r: vec4<f32>,
-    persp_u: vec4<f32>,
-    // Sun centre (ENU unit), w: cos of the supersampling margin
-    sun: vec4<f32>,
-    // disk: cos(radius), sin(radius), z_min, z_max of the Sun table
-    disk: vec4<f32>,
-    // sky-view LUT width, height; Sun table ρ nodes, z nodes
-    tables: vec4<u32>,
-    // Sun sub-samples per axis; first pixel (x, y) of the Sun dispatch; 0
-    opts: vec4<u32>,
+    // image width and height (px; the 6H×H strip for a cube map)
+    width: u32,
+    height: u32,
+    // projection: 0 fisheye, 1 equirect, 2 perspective, 3 cubemap
+    // (Rust `projection_code`)
+    projection: u32,
+    // cube face size H (px)
+    face_size: u32,
+    // perspective camera: forward, right and up (ENU, unit)
+    forward: vec3<f32>,
+    // tan of half the vertical field of view
+    tan_half_fov: f32,
+    right: vec3<f32>,
+    _pad0: f32, // padding
+    up: vec3<f32>,
+    _pad1: f32, // padding
+    // the Sun's centre (ENU, unit)
+    sun: vec3<f32>,
+    // cos of the Sun pass's supersampling margin around the centre
+    cos_sun_margin: f32,
+    // the direction the moonlit sky view is lit from (the Moon's centre,
+    // ENU, unit; zero when `moonlit` is 0)
+    moonlight: vec3<f32>,
+    // 1 when `sky` also holds the moonlit sky view after the Sun's (cpu
+    // lib.rs `SkyLight`), 0 otherwise
+    moonlit: u32,
+    // solar eclipses: the Moon's centre (ENU, unit); the Sun pass skips
+    // the sub-samples behind its disk
+    eclipse_moon: vec3<f32>,
+    // sine of the Moon's drawn radius
+    sin_moon_radius: f32,
+    // sine of the Sun's drawn radius
+    sin_sun_radius: f32,
+    // line-of-sight zenith cosines of the Sun table's first and last z node
+    sun_z_min: f32,
+    sun_z_max: f32,
+    // Sun sub-samples per pixel axis
+    sun_subsamples: u32,
+    // Sun table nodes in ρ (normalised disk radius) and in z
+    sun_rho_nodes: u32,
+    sun_z_nodes: u32,
+    // first pixel (x, y) of the Sun dispatch's rectangle in this band
+    sun_x0: u32,
+    sun_y0: u32,
+    // sky-view LUT width and height (texels)
+    sky_view_width: u32,
+    sky_view_height: u32,
     // the band of rows this dispatch renders: first row, row count
     // (`accum` holds the band; frames beyond the buffer limits are banded)
-    band: vec4<u32>,
-    // the Moon's centre (ENU unit); w: 1 when `sky` also holds the moonlit
-    // sky view (cpu lib.rs `SkyLight`), 0 otherwise
-    moon: vec4<f32>,
-    // solar eclipses: the Moon's centre (ENU unit) and the sine of its
-    // drawn radius; the Sun pass skips sub-samples behind its disk
-    eclipse: vec4<f32>,
+    band_first_row: u32,
+    band_rows: u32,
 }
 
 @group(0) @binding(0) var<uniform> frame: Frame;
@@ -52,37 +82,74 @@ struct Frame {
 // The diffuse night sky (skymodel milkyway.rs `NightBackground`). The Rust
 // mirror is `NightUniforms` (src/uniforms.rs).
 struct Night {
-    // rows of the ENU → ICRS rotation; w: sin ε, cos ε (J2000 obliquity),
+    // rows of the ENU → ICRS rotation
+    enu_to_icrs_x: vec3<f32>,
+    // sin ε (J2000 obliquity)
+    sin_obliquity: f32,
+    enu_to_icrs_y: vec3<f32>,
+    // cos ε
+    cos_obliquity: f32,
+    enu_to_icrs_z: vec3<f32>,
+    _pad0: f32, // padding
+    // airglow at the zenith (linear sRGB, cd/m²)
+    airglow: vec3<f32>,
     // (R / (R + h))² of the airglow layer (van Rhijn)
-    enu_to_icrs_x: vec4<f32>,
-    enu_to_icrs_y: vec4<f32>,
-    enu_to_icrs_z: vec4<f32>,
-    // linear sRGB, cd/m²: airglow at the zenith, zodiacal light per S10,
-    // faint-star floor
-    airglow: vec4<f32>,
-    zodiacal: vec4<f32>,
-    floor: vec4<f32>,
-    // Milky Way map width, height; extinction table nodes; reserved
-    dims: vec4<u32>,
-    // point sources: tile size (px), tiles per row, first word of the
-    // stars' and of the planets' tile lists in `tiles`
-    tiles: vec4<u32>,
-    // point sources: core radius r (px), reserved; 1 / (2σ²) (px⁻²), the
-    // quad target's scale (quads.wgsl; a power of two, 1 for rgba32float)
-    psf: vec4<f32>,
-    // point sources: first word of the stars' and of the planets' non-empty
-    // tile indices in `tiles`, and their numbers
-    busy: vec4<u32>,
+    van_rhijn_k2: f32,
+    // zodiacal light per S10 (linear sRGB, cd/m²)
+    zodiacal: vec3<f32>,
+    _pad1: f32, // padding
+    // faint-star floor (linear sRGB, cd/m²)
+    floor: vec3<f32>,
+    _pad2: f32, // padding
+    // Milky Way map width and height (texels)
+    map_width: u32,
+    map_height: u32,
+    // extinction table nodes
+    extinction_nodes: u32,
+    // point sources: tile size (px) and tiles per image row
+    tile_size: u32,
+    tiles_per_row: u32,
+    // first word of the stars' and of the planets' tile list in `tiles`
+    star_list: u32,
+    planet_list: u32,
+    // first word of the stars' and of the planets' non-empty tile indices
+    // in `tiles`, and their numbers
+    star_busy_first: u32,
+    planet_busy_first: u32,
+    star_busy_count: u32,
+    planet_busy_count: u32,
+    // core radius r (px; an integer)
+    core_radius: f32,
+    // 1 / (2σ²) of the Gaussian core (px⁻²)
+    inv_two_sigma2: f32,
+    // the quad target's scale (quads.wgsl; a power of two, 1 for
+    // rgba32float)
+    quad_scale: f32,
+    _pad3: f32, // padding
+    _pad4: f32, // padding
 }
 
 // One point source's footprint (stars.rs `SplatPlan`; equirect sources
-// near the seam have one copy per wrap): position (px), core scale, glare
-// radius (px); colour (luminance 1), glare scale; ⌊cx⌋, ⌊cy⌋, cube face,
-// 1 when checked against the ground.
+// near the seam have one copy per wrap). The Rust mirror is `PointRecord`.
 struct Point {
-    a: vec4<f32>,
-    b: vec4<f32>,
-    c: vec4<i32>,
+    // position (px, continuous image coordinates)
+    x: f32,
+    y: f32,
+    // core scale (lux)
+    core_scale: f32,
+    // glare disk radius (px; 0: none)
+    glare_radius: f32,
+    // colour (linear sRGB, luminance 1)
+    colour: vec3<f32>,
+    // glare scale (lux)
+    glare_scale: f32,
+    // the pixel holding the position: ⌊x⌋, ⌊y⌋
+    pixel_x: i32,
+    pixel_y: i32,
+    // cube face (0 for the other projections)
+    face: i32,
+    // 1 when the footprint is checked against the ground
+    near_horizon: u32,
 }
 
 @group(0) @binding(5) var<uniform> night: Night;
@@ -110,9 +177,9 @@ fn enu_from_alt_az(alt: f32, az: f32) -> vec3<f32> {
 // `Camera::pixel_to_dir` in f32; w = 1 where the projection shows the
 // scene, 0 outside (fisheye beyond 180° from the zenith).
 fn pixel_dir(px: f32, py: f32) -> vec4<f32> {
-    let w = f32(frame.size.x);
-    let h = f32(frame.size.y);
-    let p = frame.size.z;
+    let w = f32(frame.width);
+    let h = f32(frame.height);
+    let p = frame.projection;
     if (p == 0u) {
         let dx = px - w * 0.5;
         let dy = py - h * 0.5;
@@ -132,15 +199,15 @@ fn pixel_dir(px: f32, py: f32) -> vec4<f32> {
         let alt = clamp(HALF_PI - PI * py / h, -HALF_PI, HALF_PI);
         return vec4<f32>(enu_from_alt_az(alt, az), 1.0);
     } else if (p == 2u) {
-        let t = frame.persp_f.w;
+        let t = frame.tan_half_fov;
         let nx = (px - w * 0.5) / (h * 0.5) * t;
         let ny = -(py - h * 0.5) / (h * 0.5) * t;
-        let d = frame.persp_f.xyz + frame.persp_r.xyz * nx + frame.persp_u.xyz * ny;
+        let d = frame.forward + frame.right * nx + frame.up * ny;
         return vec4<f32>(normalize(d), 1.0);
     }
     // Cube map strip: OpenGL face table (major axis, sc, tc) in the scene
     // frame (x East, y Up, z South), faces +X −X +Y −Y +Z −Z.
-    let fs = f32(frame.size.w);
+    let fs = f32(frame.face_size);
     let face = clamp(i32(floor(px / fs)), 0, 5);
     let s = (px - f32(face) * fs) / fs;
     let t = py / fs;
@@ -163,15 +230,15 @@ fn pixel_dir(px: f32, py: f32) -> vec4<f32> {
 // Whether invocation `gid` of a dispatch over this band's rows is a pixel
 // of the image (the workgroups overhang it).
 fn inside(gid: vec3<u32>) -> bool {
-    return gid.x < frame.size.x && gid.y < frame.band.y;
+    return gid.x < frame.width && gid.y < frame.band_rows;
 }
 
 // The solid angle (sr) of the pixel centred at (px, py): projection.rs
 // `Camera::pixel_solid_angle` in f32.
 fn pixel_omega(px: f32, py: f32) -> f32 {
-    let w = f32(frame.size.x);
-    let h = f32(frame.size.y);
-    let p = frame.size.z;
+    let w = f32(frame.width);
+    let h = f32(frame.height);
+    let p = frame.projection;
     if (p == 0u) {
         let a = HALF_PI / (min(w, h) * 0.5);
         let dx = px - w * 0.5;
@@ -193,7 +260,7 @@ fn pixel_omega(px: f32, py: f32) -> f32 {
     var s = 2.0 / h;
     var x = 0.0;
     if (p == 2u) {
-        s = 2.0 * frame.persp_f.w / h;
+        s = 2.0 * frame.tan_half_fov / h;
         x = (px - w * 0.5) * s;
     } else {
         let face = clamp(floor(px / h), 0.0, 5.0);

@@ -5,8 +5,8 @@
 // The Milky Way map towards the ICRS unit vector `u`: bilinear, wrapping in
 // right ascension (milkyway.rs `MilkyWayMap::radiance`).
 fn milkyway_map(u: vec3<f32>) -> vec3<f32> {
-    let w = night.dims.x;
-    let h = night.dims.y;
+    let w = night.map_width;
+    let h = night.map_height;
     let ra = atan2(u.y, u.x);
     let dec = asin(clamp(u.z, -1.0, 1.0));
     var fu = 0.25 - ra * (0.5 / PI);
@@ -34,7 +34,7 @@ fn milkyway_map(u: vec3<f32>) -> vec3<f32> {
 
 // The extinction table at zenith cosine μ (linear; w: refraction, rad).
 fn extinction_at(mu: f32) -> vec4<f32> {
-    let n = night.dims.z - 1u;
+    let n = night.extinction_nodes - 1u;
     let x = clamp(mu, 0.0, 1.0) * f32(n);
     let i = min(u32(x), n - 1u);
     return mix(extinction[i], extinction[i + 1u], x - f32(i));
@@ -48,7 +48,7 @@ fn milkyway(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (!inside(gid)) {
         return;
     }
-    let d4 = pixel_dir(f32(gid.x) + 0.5, f32(gid.y + frame.band.x) + 0.5);
+    let d4 = pixel_dir(f32(gid.x) + 0.5, f32(gid.y + frame.band_first_row) + 0.5);
     let d = d4.xyz;
     if (d4.w == 0.0 || d.z < 0.0) {
         return;
@@ -64,18 +64,18 @@ fn milkyway(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
     }
     let u = vec3<f32>(
-        dot(night.enu_to_icrs_x.xyz, dt),
-        dot(night.enu_to_icrs_y.xyz, dt),
-        dot(night.enu_to_icrs_z.xyz, dt),
+        dot(night.enu_to_icrs_x, dt),
+        dot(night.enu_to_icrs_y, dt),
+        dot(night.enu_to_icrs_z, dt),
     );
-    let se = night.enu_to_icrs_x.w;
-    let ce = night.enu_to_icrs_y.w;
+    let se = night.sin_obliquity;
+    let ce = night.cos_obliquity;
     let sb = clamp(-se * u.y + ce * u.z, -1.0, 1.0);
     let c2 = max(1.0 - sb * sb, 0.0);
     let zl = 60.0 + 140.0 * c2 * c2;
-    let k2 = night.enu_to_icrs_z.w;
+    let k2 = night.van_rhijn_k2;
     let ag = 1.0 / sqrt(max(1.0 - k2 * max(1.0 - d.z * d.z, 0.0), 1e-6));
-    let l = milkyway_map(u) + night.floor.xyz + night.zodiacal.xyz * zl + night.airglow.xyz * ag;
-    let i = gid.y * frame.size.x + gid.x;
+    let l = milkyway_map(u) + night.floor + night.zodiacal * zl + night.airglow * ag;
+    let i = gid.y * frame.width + gid.x;
     accum[i] = accum[i] + vec4<f32>(l * t.xyz, 0.0);
 }

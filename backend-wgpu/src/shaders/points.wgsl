@@ -11,37 +11,37 @@
 // pixel's cube face. Both point-source methods call it: the tiles
 // (`point_sources`) and the instanced quads (quads.wgsl `quad_fs`).
 fn point_footprint(s: Point, px: u32, py: u32, fx: f32, fy: f32, below: bool, face: i32) -> vec3<f32> {
-    if ((s.c.w != 0 && below) || (frame.size.z == 3u && s.c.z != face)) {
+    if ((s.near_horizon != 0u && below) || (frame.projection == 3u && s.face != face)) {
         return vec3<f32>(0.0);
     }
-    let r = i32(night.psf.x);
-    let rr = night.psf.x * night.psf.x + 0.5;
-    let inv2s2 = night.psf.z;
-    let di = i32(px) - s.c.x;
-    let dj = i32(py) - s.c.y;
-    let dx = fx - s.a.x;
-    let dy = fy - s.a.y;
+    let r = i32(night.core_radius);
+    let rr = night.core_radius * night.core_radius + 0.5;
+    let inv2s2 = night.inv_two_sigma2;
+    let di = i32(px) - s.pixel_x;
+    let dj = i32(py) - s.pixel_y;
+    let dx = fx - s.x;
+    let dy = fy - s.y;
     let d2 = dx * dx + dy * dy;
     var v = 0.0;
     if (abs(di) <= r && abs(dj) <= r && d2 <= rr) {
-        v = s.a.z * exp(-(dx * dx) * inv2s2) * exp(-(dy * dy) * inv2s2);
+        v = s.core_scale * exp(-(dx * dx) * inv2s2) * exp(-(dy * dy) * inv2s2);
     }
-    let rg = s.a.w;
+    let rg = s.glare_radius;
     if (rg > 0.0) {
         let dd = sqrt(d2);
         let rgi = i32(ceil(rg));
         if (abs(di) <= rgi && abs(dj) <= rgi && dd < rg) {
             let x = 1.0 - dd / rg;
-            v = v + s.b.w * x * x;
+            v = v + s.glare_scale * x * x;
         }
     }
-    return v * s.b.xyz;
+    return v * s.colour;
 }
 
 // The cube face of strip column px (0 for the other projections).
 fn point_face(px: u32) -> i32 {
-    if (frame.size.z == 3u) {
-        return i32(px / frame.size.w);
+    if (frame.projection == 3u) {
+        return i32(px / frame.face_size);
     }
     return 0;
 }
@@ -65,16 +65,16 @@ fn busy_tile_pixel(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, first: u32, n:
         return p;
     }
     p.t = tiles[first + k];
-    let ts = night.tiles.x;
-    p.x = (p.t % night.tiles.y) * ts + lid.x;
-    p.y = (p.t / night.tiles.y) * ts + lid.y;
-    p.ok = p.x < frame.size.x && p.y >= frame.band.x && p.y < frame.band.x + frame.band.y;
+    let ts = night.tile_size;
+    p.x = (p.t % night.tiles_per_row) * ts + lid.x;
+    p.y = (p.t / night.tiles_per_row) * ts + lid.y;
+    p.ok = p.x < frame.width && p.y >= frame.band_first_row && p.y < frame.band_first_row + frame.band_rows;
     return p;
 }
 
 // Point sources, tiled: each pixel sums the footprints of the sources
 // listed for its 8 × 8 tile (no atomics) over the pixel's solid angle. One
-// workgroup per non-empty tile (`busy` words on).
+// workgroup per non-empty tile (listed from word `first` on).
 fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first: u32, n: u32) {
     let tp = busy_tile_pixel(wg, nwg, lid, first, n);
     if (!tp.ok) {
@@ -101,7 +101,7 @@ fn point_sources(wg: vec3<u32>, nwg: vec3<u32>, lid: vec3<u32>, base: u32, first
     for (var k = s0; k < s1; k = k + 1u) {
         acc = acc + point_footprint(points[tiles[k]], px, py, fx, fy, below, face);
     }
-    let i = (py - frame.band.x) * frame.size.x + px;
+    let i = (py - frame.band_first_row) * frame.width + px;
     accum[i] = accum[i] + vec4<f32>(acc / omega, 0.0);
 }
 
@@ -112,7 +112,7 @@ fn stars(
     @builtin(num_workgroups) nwg: vec3<u32>,
     @builtin(local_invocation_id) lid: vec3<u32>,
 ) {
-    point_sources(wg, nwg, lid, night.tiles.z, night.busy.x, night.busy.z);
+    point_sources(wg, nwg, lid, night.star_list, night.star_busy_first, night.star_busy_count);
 }
 
 // Planets pass: Mercury–Saturn's footprints.
@@ -122,5 +122,5 @@ fn planets(
     @builtin(num_workgroups) nwg: vec3<u32>,
     @builtin(local_invocation_id) lid: vec3<u32>,
 ) {
-    point_sources(wg, nwg, lid, night.tiles.w, night.busy.y, night.busy.w);
+    point_sources(wg, nwg, lid, night.planet_list, night.planet_busy_first, night.planet_busy_count);
 }
