@@ -2,8 +2,9 @@
 //! Metal, DX12 — any adapter, software ones such as Mesa's lavapipe
 //! included).
 //!
-//! Every sky pass is a WGSL compute shader (`src/shaders/sky.wgsl`) that
-//! adds its radiance (linear sRGB, cd/m², conventions.md Photometry) into
+//! Every sky pass is a WGSL compute shader (`src/shaders/`: one file per
+//! pass after `frame.wgsl`, the bindings and projection helpers they share,
+//! compiled as one module per pass, [`uniforms`]) that adds its radiance (linear sRGB, cd/m², conventions.md Photometry) into
 //! a per-pixel accumulation buffer, back to front, as the CPU reference
 //! renderer (`himmel-cpu`) does; a final `store` pass writes the frame into
 //! an `rgba32float` texture: one layer for fisheye, equirect and
@@ -52,7 +53,7 @@
 //!   extinction, normalisations of the core and the glare disk) and bins it
 //!   into [`POINT_TILE`]² tiles ([`point_lists`]). Two ways to draw them
 //!   ([`WgpuRenderer::set_point_method`]), both evaluating the same WGSL
-//!   footprint function (sky.wgsl `point_footprint`, the CPU's `splat_at`)
+//!   footprint function (points.wgsl `point_footprint`, the CPU's `splat_at`)
 //!   on the same records: [`PointMethod::Tiles`], one invocation per pixel
 //!   of each non-empty tile summing the footprints of its tile's list over
 //!   the pixel's solid angle (no atomics); [`PointMethod::Quads`]
@@ -88,7 +89,7 @@
 //!   where the rasteriser touches only the footprints' pixels (no hardware
 //!   GPU was lent to measure them there).
 //!
-//! * Moon (`src/shaders/moon.wgsl`, compiled after `sky.wgsl` in one
+//! * Moon (`src/shaders/moon.wgsl`, compiled after `frame.wgsl` in one
 //!   module, with its own bind group 1): skymodel moon.rs
 //!   `MoonShader::{sky_xy, surface_point, radiance, shade}` and cpu
 //!   moon_pass.rs `render` per pixel of the disk's bounding rectangle
@@ -105,15 +106,16 @@
 //!   (analytic limb; disks under 16 px in radius supersampled 4 × 4 or
 //!   8 × 8 as on the CPU); `--stats` adds the CPU's `moon-eclipse` entry.
 //! * Solar eclipses: the Sun pass skips the sub-samples behind the Moon's
-//!   disk (`FrameUniforms::eclipse`), and the inner corona
+//!   disk (`FrameUniforms::eclipse_moon`), and the inner corona
 //!   (moon_pass.rs `render_corona`; the disk's mean radiance × the
 //!   transmittance tabulated over the zenith cosine) is a second dispatch
 //!   of the Sun pass over the rectangle within 6 R☉.
 //!
-//! Adding a pass: a WGSL entry point of
-//! the same shape as `atmosphere`/`sun` that adds into `accum` (extra
-//! tables go into further bindings, or a second bind group as the Moon's),
-//! a pipeline in `Pipelines`, and its `Effect` arm where `render_frame`
+//! Adding a pass: a WGSL file with an entry point of the same shape as
+//! `atmosphere`/`sun` that adds into `accum` (extra tables go into further
+//! bindings, or a second bind group as the Moon's), its module constant
+//! (frame.wgsl + the file) in [`uniforms`], a pipeline in `Pipelines`, and
+//! its `Effect` arm where `render_frame`
 //! maps planned passes to pipelines and dispatch rectangles; the parity
 //! tests then compare it with the CPU pass.
 //!
@@ -137,7 +139,7 @@ use himmel_skymodel::{Camera, Effect, Projection, Scene, SkyState};
 use wgpu::util::DeviceExt;
 
 pub use luts::LutSource;
-use uniforms::{projection_code, SKYVIEW_WGSL, SKY_WGSL};
+use uniforms::{projection_code, SKYVIEW_WGSL};
 pub use uniforms::{AtmosphereUniforms, FrameUniforms, NightUniforms, PointRecord};
 
 /// Nodes of the Sun table in normalised disk radius ρ.
@@ -194,12 +196,12 @@ impl Timing {
 }
 
 /// How the stars' and planets' footprints are drawn. Both evaluate the
-/// same per-pixel footprint (sky.wgsl `point_footprint`) from the same
+/// same per-pixel footprint (points.wgsl `point_footprint`) from the same
 /// records ([`point_lists`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum PointMethod {
     /// Compute passes: one workgroup per non-empty 8 × 8 tile, each pixel
-    /// sums the footprints listed for its tile (sky.wgsl `stars`/`planets`).
+    /// sums the footprints listed for its tile (points.wgsl `stars`/`planets`).
     Tiles,
     /// A render pass: one instanced quad per footprint record (vertex +
     /// fragment shaders, no geometry shader, quads.wgsl), added by the blend
@@ -309,8 +311,8 @@ pub struct WgpuRenderer {
     /// The Milky Way map (uploaded on first use) and its width, height.
     mw_map: Option<(wgpu::Buffer, u32, u32)>,
     moon: MoonPipelines,
-    /// The lunar albedo and normal maps (uploaded on first use) and
-    /// `MoonUniforms.maps`.
+    /// The lunar albedo and normal maps (uploaded on first use) and their
+    /// sizes (albedo width, height; normal map width, height).
     moon_maps: Option<(wgpu::Buffer, [u32; 4])>,
     /// The per-frame buffers (tables, uniforms, accumulation, read-back),
     /// kept across frames.
@@ -412,7 +414,7 @@ impl PoolBinding {
     }
 }
 
-/// The Moon pass and the corona (sky.wgsl + moon.wgsl): bind group 0 is
+/// The Moon pass and the corona (frame.wgsl + moon.wgsl): bind group 0 is
 /// the sky passes', bind group 1 the Moon's uniform and maps.
 struct MoonPipelines {
     layout: wgpu::BindGroupLayout,
@@ -523,11 +525,11 @@ impl WgpuRenderer {
         })
     }
 
+    /// The image passes: one shader module per pass ([`uniforms`]), one
+    /// bind group layout for all (every module declares the same group 0,
+    /// frame.wgsl; the explicit pipeline layout holds the bindings a pass
+    /// does not use), so one bind group per band serves every pass.
     fn pipelines(device: &wgpu::Device) -> Pipelines {
-        let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
-            label: Some("sky.wgsl"),
-            source: wgpu::ShaderSource::Wgsl(SKY_WGSL.into()),
-        });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("sky"),
             entries: &[
@@ -552,14 +554,41 @@ impl WgpuRenderer {
                 storage_entry(9, true),
             ],
         });
-        let pipeline = compute_pipelines(device, &module, &layout, "sky");
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("sky"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let module = |label, wgsl: &str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(label),
+                source: wgpu::ShaderSource::Wgsl(wgsl.into()),
+            })
+        };
+        let pipeline = |module: &wgpu::ShaderModule, entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pl),
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let points = module("points.wgsl", uniforms::POINTS_WGSL);
         Pipelines {
-            atmosphere: pipeline("atmosphere"),
-            sun: pipeline("sun"),
-            milkyway: pipeline("milkyway"),
-            stars: pipeline("stars"),
-            planets: pipeline("planets"),
-            store: pipeline("store"),
+            atmosphere: pipeline(
+                &module("atmosphere.wgsl", uniforms::ATMOSPHERE_WGSL),
+                "atmosphere",
+            ),
+            sun: pipeline(&module("sun.wgsl", uniforms::SUN_WGSL), "sun"),
+            milkyway: pipeline(
+                &module("milkyway.wgsl", uniforms::MILKYWAY_WGSL),
+                "milkyway",
+            ),
+            stars: pipeline(&points, "stars"),
+            planets: pipeline(&points, "planets"),
+            store: pipeline(&module("store.wgsl", uniforms::STORE_WGSL), "store"),
             layout,
         }
     }
@@ -838,7 +867,7 @@ impl WgpuRenderer {
         let mut sky_view_ms = 0.0;
         let (mut sky_w, mut sky_h) = (1u32, 1u32);
         let mut sky = None;
-        let mut moon_light = [0.0f32; 4];
+        let mut moonlight = None;
         if let Some(luts) = cpu_luts {
             let mut inputs = vec![SkyViewInput {
                 observer_altitude_km: state.observer_altitude_km as f32,
@@ -857,7 +886,7 @@ impl WgpuRenderer {
                     sun_sin_elevation: dir.z,
                     irradiance_scale: scale as f32,
                 });
-                moon_light = [dir.x, dir.y, dir.z, 1.0];
+                moonlight = Some(dir);
             }
             sky_w = luts.config.sky_view_w as u32;
             sky_h = luts.config.sky_view_h as u32;
@@ -937,31 +966,34 @@ impl WgpuRenderer {
             Projection::Cubemap => projection_code::CUBEMAP,
         };
         let frame = FrameUniforms {
-            size: [w, h, code, h],
-            persp_f: [f.x as f32, f.y as f32, f.z as f32, t as f32],
-            persp_r: [r.x as f32, r.y as f32, r.z as f32, 0.0],
-            persp_u: [u.x as f32, u.y as f32, u.z as f32, 0.0],
-            sun: [sun_dir.x, sun_dir.y, sun_dir.z, margin.cos() as f32],
-            disk: [
-                radius.cos() as f32,
-                radius.sin() as f32,
-                z_range[0],
-                z_range[1],
-            ],
-            tables: [sky_w, sky_h, SUN_TABLE_RHO as u32, SUN_TABLE_Z as u32],
-            opts: [
-                himmel_cpu::SUN_SUPERSAMPLING as u32,
-                sun_rect.0,
-                sun_rect.1,
-                0,
-            ],
-            band: [0, h, 0, 0],
-            moon: moon_light,
-            eclipse: {
-                let m = state.moon.dir().as_vec3();
-                let s = (state.moon.angular_radius * scene.moon_scale).sin() as f32;
-                [m.x, m.y, m.z, s]
-            },
+            width: w,
+            height: h,
+            projection: code,
+            face_size: h,
+            forward: f.as_vec3().to_array(),
+            tan_half_fov: t as f32,
+            right: r.as_vec3().to_array(),
+            _pad0: 0.0,
+            up: u.as_vec3().to_array(),
+            _pad1: 0.0,
+            sun: sun_dir.to_array(),
+            cos_sun_margin: margin.cos() as f32,
+            moonlight: moonlight.unwrap_or(Vec3::ZERO).to_array(),
+            moonlit: moonlight.is_some() as u32,
+            eclipse_moon: state.moon.dir().as_vec3().to_array(),
+            sin_moon_radius: (state.moon.angular_radius * scene.moon_scale).sin() as f32,
+            sin_sun_radius: radius.sin() as f32,
+            sun_z_min: z_range[0],
+            sun_z_max: z_range[1],
+            sun_subsamples: himmel_cpu::SUN_SUPERSAMPLING as u32,
+            sun_rho_nodes: SUN_TABLE_RHO as u32,
+            sun_z_nodes: SUN_TABLE_Z as u32,
+            sun_x0: sun_rect.0,
+            sun_y0: sun_rect.1,
+            sky_view_width: sky_w,
+            sky_view_height: sky_h,
+            band_first_row: 0,
+            band_rows: h,
         };
 
         // The Moon pass and the solar-eclipse corona: constants and tables
@@ -983,7 +1015,7 @@ impl WgpuRenderer {
                 &self.moon.layout,
                 &[uniform.resource(), maps_buf.as_entire_binding()],
             );
-            Some((bind, mu.rect, mu.corona_rect))
+            Some((bind, mu.disk_rect(), mu.corona_rect()))
         } else {
             None
         };
@@ -995,7 +1027,9 @@ impl WgpuRenderer {
         } else {
             (
                 NightUniforms {
-                    dims: [2, 2, 2, 0],
+                    map_width: 2,
+                    map_height: 2,
+                    extinction_nodes: 2,
                     ..bytemuck::Zeroable::zeroed()
                 },
                 vec![[0.0; 4]; 2],
@@ -1022,19 +1056,26 @@ impl WgpuRenderer {
         let PointLists {
             records: points,
             words: tile_words,
-            tiles,
+            tiles_per_row,
+            lists,
             busy,
             ranges,
         } = point_lists(&cam, &[&star_plans, &planet_plans]);
-        night_u.tiles = tiles;
-        night_u.busy = [busy[0].0, busy[1].0, busy[0].1, busy[1].1];
+        night_u.tile_size = POINT_TILE;
+        night_u.tiles_per_row = tiles_per_row;
+        [night_u.star_list, night_u.planet_list] = lists;
+        [night_u.star_busy_first, night_u.planet_busy_first] = [busy[0].0, busy[1].0];
+        [night_u.star_busy_count, night_u.planet_busy_count] = [busy[0].1, busy[1].1];
         let active = [busy[0].1, busy[1].1];
         if let Some((p, _)) = star_plans.first().or(planet_plans.first()) {
-            night_u.psf = [p.r as f32, 0.0, p.inv2s2, 1.0];
+            night_u.core_radius = p.r as f32;
+            night_u.inv_two_sigma2 = p.inv2s2;
         }
-        if self.quad_format != wgpu::TextureFormat::Rgba32Float {
-            night_u.psf[3] = quad_scale(&cam, star_plans.iter().chain(&planet_plans));
-        }
+        night_u.quad_scale = if self.quad_format == wgpu::TextureFormat::Rgba32Float {
+            1.0
+        } else {
+            quad_scale(&cam, star_plans.iter().chain(&planet_plans))
+        };
         // Point sources as quads: a float target of the band's size (where
         // the adapter's texture limit allows the image width).
         let quads = self.point_method == PointMethod::Quads
@@ -1097,8 +1138,9 @@ impl WgpuRenderer {
             .map(|&(row0, rows)| {
                 let y0 = sun_rect.1.clamp(row0, row0 + rows);
                 FrameUniforms {
-                    opts: [frame.opts[0], sun_rect.0, y0, 0],
-                    band: [row0, rows, 0, 0],
+                    sun_y0: y0,
+                    band_first_row: row0,
+                    band_rows: rows,
                     ..frame
                 }
             })
@@ -1294,7 +1336,7 @@ impl WgpuRenderer {
                         None => (0, 0),
                     },
                     1 => {
-                        let y0 = band_frames[b].opts[2];
+                        let y0 = band_frames[b].sun_y0;
                         let y1 = sun_rect.3.clamp(row0, row0 + rows);
                         (
                             (sun_rect.2 - sun_rect.0).div_ceil(8),
@@ -1453,7 +1495,8 @@ impl WgpuRenderer {
     }
 
     /// Uploads the lunar albedo map followed by the normal map's (east,
-    /// north) pairs (once); returns the buffer and `MoonUniforms.maps`.
+    /// north) pairs (once); returns the buffer and the maps' sizes (albedo
+    /// width, height; normal map width, height).
     fn upload_moon_maps(&mut self) -> (wgpu::Buffer, [u32; 4]) {
         if let Some((buf, dims)) = &self.moon_maps {
             return (buf.clone(), *dims);
@@ -1817,9 +1860,10 @@ fn moon_pipelines(device: &wgpu::Device, sky: &wgpu::BindGroupLayout) -> MoonPip
 
 /// The Moon pass's and the corona's uniform ([`uniforms::MoonUniforms`]) and its
 /// [`uniforms::MOON_TABLE_ROWS`] table rows for `state`, with `maps` the
-/// uploaded maps' sizes: the constants of skymodel moon.rs `MoonShader`
-/// (built as cpu moon_pass.rs `render` builds it: extinction from `luts`,
-/// which are given when the atmosphere pass runs), its extinction and
+/// uploaded maps' sizes (albedo width, height; normal map width, height):
+/// the constants of skymodel moon.rs `MoonShader` (built as cpu
+/// moon_pass.rs `render` builds it: extinction from `luts`, which are
+/// given when the atmosphere pass runs), its extinction and
 /// lunar-eclipse tables, Bennett's refraction (`moon::unrefract`) at
 /// [`uniforms::MOON_REFR_N`] apparent altitudes over the disk, the disk's
 /// pixel angle, limb margin, sub-sampling and rectangle as the CPU pass
@@ -1840,9 +1884,15 @@ pub fn moon_uniforms(
     };
     let cam = &scene.camera;
     let mut rows = vec![[0.0f32; 4]; uniforms::MOON_TABLE_ROWS];
+    // Two-node tables where the Moon does not run (the corona may).
+    let [albedo_width, albedo_height, normal_width, normal_height] = maps;
     let mut u = MoonUniforms {
-        maps,
-        dims: [2, 0, 0, 2],
+        albedo_width,
+        albedo_height,
+        normal_width,
+        normal_height,
+        extinction_nodes: 2,
+        refraction_nodes: 2,
         ..bytemuck::Zeroable::zeroed()
     };
     let r0 = luts.map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
@@ -1853,7 +1903,6 @@ pub fn moon_uniforms(
         let margin = himmel_cpu::moon_pass::limb_margin(pixel);
         let cos_bound = shader.cos_bound(margin);
         let n = himmel_cpu::moon_pass::supersampling(p.radius / pixel) as u32;
-        let v = |a: Vec3, w: f32| [a.x, a.y, a.z, w];
         let c = |a: [f32; 3], w: f32| [a[0], a[1], a[2], w];
         // Bennett's refraction over the apparent altitudes the disk test
         // lets through (radius + margin around the centre, and the
@@ -1872,14 +1921,14 @@ pub fn moon_uniforms(
             rows[MOON_EXT + k] = c(*e, 0.0);
         }
         let mut ecl_n = 0;
-        let mut ecl = [0.0; 4];
+        let (mut offset, mut semidiameter, mut d_max) = ([0.0; 2], 0.0, 0.0);
         let (mut geo_e, mut geo_n) = (Vec3::ZERO, Vec3::ZERO);
         if let Some(e) = &p.eclipse {
             ecl_n = e.table.len().min(MOON_COR - MOON_ECL);
             for (k, t) in e.table.iter().take(ecl_n).enumerate() {
                 rows[MOON_ECL + k] = c(*t, 0.0);
             }
-            ecl = [e.offset[0], e.offset[1], e.semidiameter, e.d_max];
+            (offset, semidiameter, d_max) = (e.offset, e.semidiameter, e.d_max);
             (geo_e, geo_n) = (e.geo_east, e.geo_north);
         }
         // The rectangle holds every pixel the disk can touch: centres within
@@ -1889,20 +1938,39 @@ pub fn moon_uniforms(
         let reach = (2.0 * pixel.max(cam.max_pixel_angle() as f32)).min(margin);
         let rect = sun_rect(cam, p.centre.as_dvec3(), (p.radius + reach) as f64);
         u = MoonUniforms {
-            centre: v(p.centre, p.radius),
-            east: v(p.east, p.sin_radius),
-            north: v(p.north, if p.refract { 1.0 } else { 0.0 }),
-            sun: v(p.sun, p.sun_factor),
-            axis_x: v(p.axes[0], pixel),
-            axis_y: v(p.axes[1], cos_bound),
-            axis_z: v(p.axes[2], 0.0),
-            sun_rgb: c(p.sun_rgb, p.ext_z0),
-            earth_rgb: c(p.earth_rgb, p.ext_dz),
-            eclipse: ecl,
-            geo_e: v(geo_e, alt0),
-            geo_n: v(geo_n, dalt),
-            dims: [ext_n as u32, ecl_n as u32, n, MOON_REFR_N as u32],
-            rect: [rect.0, rect.1, rect.2, rect.3],
+            centre: p.centre.to_array(),
+            radius: p.radius,
+            east: p.east.to_array(),
+            sin_radius: p.sin_radius,
+            north: p.north.to_array(),
+            refract: p.refract as u32,
+            sun: p.sun.to_array(),
+            sun_factor: p.sun_factor,
+            axis_x: p.axes[0].to_array(),
+            pixel_angle: pixel,
+            axis_y: p.axes[1].to_array(),
+            cos_bound,
+            axis_z: p.axes[2].to_array(),
+            sun_rgb: p.sun_rgb,
+            extinction_z0: p.ext_z0,
+            earth_rgb: p.earth_rgb,
+            extinction_dz: p.ext_dz,
+            geo_east: geo_e.to_array(),
+            refraction_alt0: alt0,
+            geo_north: geo_n.to_array(),
+            refraction_dalt: dalt,
+            shadow_east: offset[0],
+            shadow_north: offset[1],
+            semidiameter,
+            shadow_last: d_max,
+            extinction_nodes: ext_n as u32,
+            eclipse_nodes: ecl_n as u32,
+            refraction_nodes: MOON_REFR_N as u32,
+            subsamples: n,
+            disk_x0: rect.0,
+            disk_y0: rect.1,
+            disk_x1: rect.2,
+            disk_y1: rect.3,
             ..u
         };
     }
@@ -1929,14 +1997,15 @@ pub fn moon_uniforms(
             };
         }
         let rect = sun_rect(cam, sun.normalize(), 6.0 * rs);
-        u.corona_rect = [rect.0, rect.1, rect.2, rect.3];
-        u.corona = [(6.0 * rs32).cos(), rs32, rm, cam.max_pixel_angle() as f32];
-        u.corona_z = [
-            z0,
-            dz,
-            MOON_COR_N as f32,
-            himmel_skymodel::sun::corona_relative(6.0) as f32,
-        ];
+        (u.corona_x0, u.corona_y0, u.corona_x1, u.corona_y1) = rect;
+        u.corona_cos_outer = (6.0 * rs32).cos();
+        u.corona_sun_radius = rs32;
+        u.corona_moon_radius = rm;
+        u.max_pixel_angle = cam.max_pixel_angle() as f32;
+        u.corona_z0 = z0;
+        u.corona_dz = dz;
+        u.corona_nodes = MOON_COR_N as u32;
+        u.corona_floor = himmel_skymodel::sun::corona_relative(6.0) as f32;
     }
     (u, rows)
 }
@@ -2030,22 +2099,28 @@ pub fn atmosphere_uniforms(luts: &AtmosphereLuts, input: &SkyViewInput) -> Atmos
         w_r: w[0],
         w_g: w[1],
         w_b: w[2],
-        s0: [m.bottom, m.top, m.inv_h_r, m.inv_h_m],
-        s1: [m.ozone_peak, m.inv_ozone_w, m.g, m.albedo],
-        s2: [
-            m.sun_angular_radius,
-            r0,
-            cfg.forward_peak_deg.to_radians().cos(),
-            if cfg.forward_peak_deg > 0.0 { 1.0 } else { 0.0 },
-        ],
-        sun: [sun.x, sun.y, sun.z, input.irradiance_scale],
-        dims: [
-            luts.transmittance.w as u32,
-            luts.transmittance.h as u32,
-            luts.multiscatter.w as u32,
-            cfg.sky_view_steps as u32,
-        ],
-        dims2: [cfg.sky_view_w as u32, cfg.sky_view_h as u32, 0, 0],
+        sun: sun.to_array(),
+        irradiance_scale: input.irradiance_scale,
+        bottom_radius: m.bottom,
+        top_radius: m.top,
+        inv_h_rayleigh: m.inv_h_r,
+        inv_h_mie: m.inv_h_m,
+        ozone_peak: m.ozone_peak,
+        inv_ozone_width: m.inv_ozone_w,
+        mie_g: m.g,
+        ground_albedo: m.albedo,
+        sun_angular_radius: m.sun_angular_radius,
+        observer_radius: r0,
+        cos_forward_peak: cfg.forward_peak_deg.to_radians().cos(),
+        forward_peak: (cfg.forward_peak_deg > 0.0) as u32,
+        transmittance_width: luts.transmittance.w as u32,
+        transmittance_height: luts.transmittance.h as u32,
+        multiscatter_n: luts.multiscatter.w as u32,
+        sky_view_steps: cfg.sky_view_steps as u32,
+        sky_view_width: cfg.sky_view_w as u32,
+        sky_view_height: cfg.sky_view_h as u32,
+        _pad0: 0,
+        _pad1: 0,
     }
 }
 
@@ -2130,7 +2205,7 @@ fn gpu_sky_view(
     let mut enc = device.create_command_encoder(&Default::default());
     for (k, (input, (uniform, sky, bind))) in inputs.iter().zip(&c.slots).enumerate() {
         let u = atmosphere_uniforms(luts, input);
-        debug_assert_eq!((u.dims2[0], u.dims2[1]), (w, h));
+        debug_assert_eq!((u.sky_view_width, u.sky_view_height), (w, h));
         queue.write_buffer(uniform, 0, bytemuck::bytes_of(&u));
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -2199,18 +2274,26 @@ pub fn night_inputs(
     let k = (EARTH_RADIUS_KM / (EARTH_RADIUS_KM + AIRGLOW_HEIGHT_KM)) as f32;
     let (se, ce) = OBLIQUITY_J2000.sin_cos();
     let [ag, zl, fl] = bg.colours();
-    let row = |i: usize, w: f32| [m.x_axis[i], m.y_axis[i], m.z_axis[i], w];
+    // The rows of the ENU → ICRS rotation (glam matrices are column-major).
+    let row = |i: usize| [m.x_axis[i], m.y_axis[i], m.z_axis[i]];
     let u = NightUniforms {
-        tiles: [POINT_TILE, 1, 0, 0],
-        busy: [0; 4],
-        psf: [0.0; 4],
-        enu_to_icrs_x: row(0, se),
-        enu_to_icrs_y: row(1, ce),
-        enu_to_icrs_z: row(2, k * k),
-        airglow: [ag[0], ag[1], ag[2], 0.0],
-        zodiacal: [zl[0], zl[1], zl[2], 0.0],
-        floor: [fl[0], fl[1], fl[2], 0.0],
-        dims: [map_w, map_h, n as u32, 0],
+        enu_to_icrs_x: row(0),
+        sin_obliquity: se,
+        enu_to_icrs_y: row(1),
+        cos_obliquity: ce,
+        enu_to_icrs_z: row(2),
+        airglow: ag,
+        van_rhijn_k2: k * k,
+        zodiacal: zl,
+        floor: fl,
+        map_width: map_w,
+        map_height: map_h,
+        extinction_nodes: n as u32,
+        tile_size: POINT_TILE,
+        tiles_per_row: 1,
+        quad_scale: 1.0,
+        // The point sources' lists and footprint constants: render_frame.
+        ..bytemuck::Zeroable::zeroed()
     };
     (u, rows)
 }
@@ -2229,8 +2312,11 @@ pub struct PointLists {
     pub records: Vec<PointRecord>,
     /// Per list: tile start words, record indices, non-empty tile indices.
     pub words: Vec<u32>,
-    /// `Night.tiles`: tile size, tiles per row, first word of each list.
-    pub tiles: [u32; 4],
+    /// Tiles per image row (`Night.tiles_per_row`).
+    pub tiles_per_row: u32,
+    /// Per list: the first word of its tile starts (`Night.star_list`,
+    /// `Night.planet_list`).
+    pub lists: [u32; 2],
     /// Per list: the first word and the number of its non-empty tiles.
     pub busy: [(u32, u32); 2],
     /// Per list: its records, `records[start..end]` (the instances of its
@@ -2244,9 +2330,8 @@ pub struct PointLists {
 /// (stars, planets), the records that may touch each
 /// [`POINT_TILE`]² tile: `tiles + 1` absolute start words, then the
 /// record indices, then the indices of the non-empty tiles. Returns the
-/// records, the words, `Night.tiles` (tile size, tiles per row, first word
-/// of each list) and per list the first word and the number of its
-/// non-empty tiles.
+/// records, the words, the tiles per row, the first word of each list and
+/// per list the first word and the number of its non-empty tiles.
 pub fn point_lists(
     cam: &Camera,
     lists: &[&[(himmel_skymodel::stars::SplatPlan, [f32; 3])]; 2],
@@ -2285,14 +2370,16 @@ pub fn point_lists(
                 }
                 let idx = records.len() as u32;
                 records.push(PointRecord {
-                    a: [sx as f32, cy as f32, plan.core_scale, plan.glare_r_px],
-                    b: [rgb[0], rgb[1], rgb[2], plan.glare_scale],
-                    c: [
-                        si as i32,
-                        cj as i32,
-                        plan.face as i32,
-                        plan.near_horizon as i32,
-                    ],
+                    x: sx as f32,
+                    y: cy as f32,
+                    core_scale: plan.core_scale,
+                    glare_radius: plan.glare_r_px,
+                    colour: *rgb,
+                    glare_scale: plan.glare_scale,
+                    pixel_x: si as i32,
+                    pixel_y: cj as i32,
+                    face: plan.face as i32,
+                    near_horizon: plan.near_horizon as u32,
                 });
                 for j in y0 / ts..=y1 / ts {
                     for i in x0 / ts..=x1 / ts {
@@ -2329,13 +2416,14 @@ pub fn point_lists(
     PointLists {
         records,
         words,
-        tiles: [POINT_TILE, tx as u32, bases[0], bases[1]],
+        tiles_per_row: tx as u32,
+        lists: bases,
         busy: active,
         ranges,
     }
 }
 
-/// The scale of an rgba16float quad target (`NightUniforms::psf[3]`): the
+/// The scale of an rgba16float quad target (`NightUniforms::quad_scale`): the
 /// power of two that brings the largest footprint radiance — (core + glare
 /// scale) × the brightest colour channel / the solid angle of the pixel at
 /// the footprint's centre — near 2¹³, so that it stays below the format's
@@ -2509,7 +2597,8 @@ mod tests {
     /// is the tile size (the quads' resolve passes too).
     #[test]
     fn point_workgroups_are_tiles() {
-        let module = naga::front::wgsl::parse_str(uniforms::SKY_WGSL).expect("sky.wgsl parses");
+        let module =
+            naga::front::wgsl::parse_str(uniforms::POINTS_WGSL).expect("points.wgsl parses");
         for name in ["stars", "planets"] {
             let e = module.entry_points.iter().find(|e| e.name == name).unwrap();
             assert_eq!(e.workgroup_size, [POINT_TILE, POINT_TILE, 1], "{name}");
@@ -2615,7 +2704,7 @@ mod tests {
         // The second star crosses the seam: two records.
         assert_eq!(l.ranges, [(0, 3), (3, 4)]);
         assert_eq!(l.records.len(), 4);
-        assert_eq!(l.records[3].a[3], 3.5);
+        assert_eq!(l.records[3].glare_radius, 3.5);
         let empty = point_lists(&cam, &[&[], &planets]);
         assert_eq!(empty.ranges, [(0, 0), (0, 1)]);
     }

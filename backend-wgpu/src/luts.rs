@@ -79,18 +79,48 @@ pub struct LutUniforms {
     pub ozone: [[f32; 4]; 3],
     /// δ-scaled forward scattering f·σ_M (lut.rs `forward_scattering`), km⁻¹.
     pub forward: [[f32; 4]; 3],
-    /// Ground radius, top radius (km), 1/H_R, 1/H_M (km⁻¹).
-    pub s0: [f32; 4],
-    /// Ozone peak altitude (km), 1/ozone half width (km⁻¹), g, albedo.
-    pub s1: [f32; 4],
-    /// Sun angular radius (rad), cos of the forward peak, 1 when the
-    /// forward peak is on, reserved.
-    pub s2: [f32; 4],
-    /// Transmittance LUT w, h, march steps; multiple-scattering LUT n.
-    pub dims: [u32; 4],
+    /// Ground radius, km.
+    pub bottom_radius: f32,
+    /// Top-of-atmosphere radius, km.
+    pub top_radius: f32,
+    /// Inverse Rayleigh scale height, km⁻¹.
+    pub inv_h_rayleigh: f32,
+    /// Inverse aerosol scale height, km⁻¹.
+    pub inv_h_mie: f32,
+    /// Ozone peak altitude, km.
+    pub ozone_peak: f32,
+    /// Inverse ozone half width, km⁻¹.
+    pub inv_ozone_width: f32,
+    /// Aerosol asymmetry parameter g.
+    pub mie_g: f32,
+    /// Ground albedo.
+    pub ground_albedo: f32,
+    /// The Sun's angular radius, rad.
+    pub sun_angular_radius: f32,
+    /// cos of the forward peak's half angle.
+    pub cos_forward_peak: f32,
+    /// 1 when the aerosol phase is flattened within the forward peak, 0
+    /// otherwise.
+    pub forward_peak: u32,
+    /// Scattering orders of the multiple-scattering series (0: all).
+    pub orders: u32,
+    /// Transmittance LUT width, texels.
+    pub transmittance_width: u32,
+    /// Transmittance LUT height, texels.
+    pub transmittance_height: u32,
+    /// Ray-march steps per transmittance texel.
+    pub transmittance_steps: u32,
+    /// Multiple-scattering LUT size n (n × n texels).
+    pub multiscatter_n: u32,
     /// Multiple-scattering directions (k², as [`sphere_directions`]
-    /// returns them), march steps, scattering orders, reserved.
-    pub dims2: [u32; 4],
+    /// returns them).
+    pub multiscatter_dirs: u32,
+    /// Ray-march steps per multiple-scattering direction.
+    pub multiscatter_steps: u32,
+    /// Padding.
+    pub _pad0: u32,
+    /// Padding.
+    pub _pad1: u32,
 }
 
 /// The uniforms of the LUT passes for `medium` and `config`; `dirs` is the
@@ -103,30 +133,26 @@ pub fn lut_uniforms(medium: &Medium, config: &LutConfig, dirs: usize) -> LutUnif
         mie_extinction: band_groups(&m.mie_extinction),
         ozone: band_groups(&m.ozone),
         forward: band_groups(&forward_scattering(m, config)),
-        s0: [m.bottom, m.top, m.inv_h_r, m.inv_h_m],
-        s1: [m.ozone_peak, m.inv_ozone_w, m.g, m.albedo],
-        s2: [
-            m.sun_angular_radius,
-            config.forward_peak_deg.to_radians().cos(),
-            if config.forward_peak_deg > 0.0 {
-                1.0
-            } else {
-                0.0
-            },
-            0.0,
-        ],
-        dims: [
-            config.transmittance_w as u32,
-            config.transmittance_h as u32,
-            config.transmittance_steps as u32,
-            config.multiscatter_n as u32,
-        ],
-        dims2: [
-            dirs as u32,
-            config.multiscatter_steps as u32,
-            config.orders,
-            0,
-        ],
+        bottom_radius: m.bottom,
+        top_radius: m.top,
+        inv_h_rayleigh: m.inv_h_r,
+        inv_h_mie: m.inv_h_m,
+        ozone_peak: m.ozone_peak,
+        inv_ozone_width: m.inv_ozone_w,
+        mie_g: m.g,
+        ground_albedo: m.albedo,
+        sun_angular_radius: m.sun_angular_radius,
+        cos_forward_peak: config.forward_peak_deg.to_radians().cos(),
+        forward_peak: (config.forward_peak_deg > 0.0) as u32,
+        orders: config.orders,
+        transmittance_width: config.transmittance_w as u32,
+        transmittance_height: config.transmittance_h as u32,
+        transmittance_steps: config.transmittance_steps as u32,
+        multiscatter_n: config.multiscatter_n as u32,
+        multiscatter_dirs: dirs as u32,
+        multiscatter_steps: config.multiscatter_steps as u32,
+        _pad0: 0,
+        _pad1: 0,
     }
 }
 
@@ -367,27 +393,45 @@ pub fn compute(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use std::mem::{offset_of, size_of};
+    use std::mem::size_of;
 
-    use crate::uniforms::tests::assert_wgsl_layout;
+    use crate::uniforms::tests::{assert_wgsl_layout, fields};
 
-    /// `LutUniforms` has the size and offsets naga computes for the WGSL
-    /// `LutParams` (uniform address space rules).
+    /// `LutUniforms` has the size, field offsets and types naga computes
+    /// for the WGSL `LutParams` (uniform address space rules).
     #[test]
     fn lut_uniforms_mirror_the_wgsl_struct() {
         assert_eq!(size_of::<LutUniforms>(), 320);
-        let rust = [
-            ("rayleigh", offset_of!(LutUniforms, rayleigh)),
-            ("mie_scattering", offset_of!(LutUniforms, mie_scattering)),
-            ("mie_extinction", offset_of!(LutUniforms, mie_extinction)),
-            ("ozone", offset_of!(LutUniforms, ozone)),
-            ("forward", offset_of!(LutUniforms, forward)),
-            ("s0", offset_of!(LutUniforms, s0)),
-            ("s1", offset_of!(LutUniforms, s1)),
-            ("s2", offset_of!(LutUniforms, s2)),
-            ("dims", offset_of!(LutUniforms, dims)),
-            ("dims2", offset_of!(LutUniforms, dims2)),
-        ];
+        let rust = fields!(
+            LutUniforms,
+            [
+                rayleigh,
+                mie_scattering,
+                mie_extinction,
+                ozone,
+                forward,
+                bottom_radius,
+                top_radius,
+                inv_h_rayleigh,
+                inv_h_mie,
+                ozone_peak,
+                inv_ozone_width,
+                mie_g,
+                ground_albedo,
+                sun_angular_radius,
+                cos_forward_peak,
+                forward_peak,
+                orders,
+                transmittance_width,
+                transmittance_height,
+                transmittance_steps,
+                multiscatter_n,
+                multiscatter_dirs,
+                multiscatter_steps,
+                _pad0,
+                _pad1,
+            ]
+        );
         assert_wgsl_layout(LUTS_WGSL, "LutParams", size_of::<LutUniforms>(), &rust);
     }
 
@@ -432,12 +476,20 @@ mod tests {
         let m = Medium::new(&params);
         let dirs = sphere_directions(cfg.multiscatter_dirs).len();
         let u = lut_uniforms(&m, &cfg, dirs);
-        assert_eq!(u.dims, [256, 64, 40, 48]);
-        assert_eq!(u.dims2, [64, 20, 0, 0]);
+        let dims = [
+            u.transmittance_width,
+            u.transmittance_height,
+            u.transmittance_steps,
+            u.multiscatter_n,
+        ];
+        assert_eq!(dims, [256, 64, 40, 48]);
+        let ms = [u.multiscatter_dirs, u.multiscatter_steps, u.orders];
+        assert_eq!(ms, [64, 20, 0]);
         assert_eq!(sphere_directions(50).len(), 49);
         assert_eq!(u.rayleigh[2][2], 0.0);
         assert_eq!(u.rayleigh[0][0], m.rayleigh.0[0]);
         assert_eq!(u.forward[1][1], forward_scattering(&m, &cfg).0[5]);
-        assert!((u.s2[1] - 15f32.to_radians().cos()).abs() < 1e-7);
+        assert!((u.cos_forward_peak - 15f32.to_radians().cos()).abs() < 1e-7);
+        assert_eq!(u.forward_peak, 1);
     }
 }

@@ -925,7 +925,7 @@ fn moon_rectangle_holds_every_drawn_pixel() {
         let state = SkyState::at(s).unwrap();
         let img = CpuRenderer::new(None).render(s, &state).unwrap().image;
         let (u, _) = himmel_wgpu::moon_uniforms(s, &state, None, [2, 2, 2, 2]);
-        let [x0, y0, x1, y1] = u.rect;
+        let [x0, y0, x1, y1] = u.disk_rect();
         let mut drawn = 0;
         for (i, p) in img.pixels.iter().enumerate() {
             if luminance(*p) > 0.0 {
@@ -935,7 +935,7 @@ fn moon_rectangle_holds_every_drawn_pixel() {
                     (x0..x1).contains(&x) && (y0..y1).contains(&y),
                     "{:?}: ({x}, {y}) outside {:?}",
                     s.camera.projection,
-                    u.rect
+                    u.disk_rect()
                 );
             }
         }

@@ -2,7 +2,7 @@
 // Bilinear lookup in a row-major w × h table with texel centres at
 // (i + 0.5)/n, clamped at the edges (lut.rs `Lut2::sample`): the indices of
 // texels (x0, y0), (x1, y0), (x0, y1), (x1, y1) and the weights (fx, fy).
-// Appended to sky.wgsl, skyview.wgsl and luts.wgsl.
+// Appended to atmosphere.wgsl, skyview.wgsl and luts.wgsl.
 struct Bilinear {
     i: vec4<u32>,
     f: vec2<f32>,

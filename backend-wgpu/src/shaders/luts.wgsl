@@ -12,23 +12,46 @@
 // read the uniform as `atmo`).
 
 struct LutParams {
+    // Rayleigh scattering at sea level (km⁻¹)
     rayleigh: array<vec4<f32>, 3>,
+    // aerosol scattering and extinction at sea level (km⁻¹)
     mie_scattering: array<vec4<f32>, 3>,
     mie_extinction: array<vec4<f32>, 3>,
+    // ozone absorption at the peak (km⁻¹)
     ozone: array<vec4<f32>, 3>,
-    // δ-scaled forward scattering f·σ_M
+    // δ-scaled forward scattering f·σ_M (km⁻¹)
     forward: array<vec4<f32>, 3>,
-    // bottom, top, 1/H_R, 1/H_M (km, km⁻¹)
-    s0: vec4<f32>,
-    // ozone peak altitude, 1/ozone half width, g, ground albedo
-    s1: vec4<f32>,
-    // Sun angular radius (rad), cos of the forward peak, 1 when the
-    // forward peak is on, reserved
-    s2: vec4<f32>,
-    // transmittance LUT w, h, march steps; multiple-scattering LUT n
-    dims: vec4<u32>,
-    // multiple-scattering directions, march steps, scattering orders, reserved
-    dims2: vec4<u32>,
+    // medium.wgsl: ground and top-of-atmosphere radii (km), inverse scale
+    // heights of the Rayleigh and aerosol densities (km⁻¹)
+    bottom_radius: f32,
+    top_radius: f32,
+    inv_h_rayleigh: f32,
+    inv_h_mie: f32,
+    // ozone peak altitude (km), inverse ozone half width (km⁻¹)
+    ozone_peak: f32,
+    inv_ozone_width: f32,
+    // aerosol asymmetry g, ground albedo
+    mie_g: f32,
+    ground_albedo: f32,
+    // the Sun's angular radius (rad; medium.wgsl)
+    sun_angular_radius: f32,
+    // cos of the forward peak's half angle; 1 when the forward peak is
+    // flattened within it, 0 otherwise
+    cos_forward_peak: f32,
+    forward_peak: u32,
+    // scattering orders of the multiple-scattering series (0: all)
+    orders: u32,
+    // transmittance LUT width and height, march steps per texel
+    transmittance_width: u32,
+    transmittance_height: u32,
+    transmittance_steps: u32,
+    // multiple-scattering LUT size n (n × n), directions (k², as
+    // lut.rs `sphere_directions` returns them), march steps
+    multiscatter_n: u32,
+    multiscatter_dirs: u32,
+    multiscatter_steps: u32,
+    _pad0: u32, // padding
+    _pad1: u32, // padding
 }
 
 @group(0) @binding(0) var<uniform> atmo: LutParams;
@@ -47,11 +70,11 @@ const LANES: array<vec4<f32>, 3> = array<vec4<f32>, 3>(
 
 // medium.rs `Medium::densities`: Rayleigh, aerosol, ozone.
 fn densities(r: f32) -> vec3<f32> {
-    let h = max(r - atmo.s0.x, 0.0);
+    let h = max(r - atmo.bottom_radius, 0.0);
     return vec3<f32>(
-        exp(-h * atmo.s0.z),
-        exp(-h * atmo.s0.w),
-        max(1.0 - abs(h - atmo.s1.x) * atmo.s1.y, 0.0),
+        exp(-h * atmo.inv_h_rayleigh),
+        exp(-h * atmo.inv_h_mie),
+        max(1.0 - abs(h - atmo.ozone_peak) * atmo.inv_ozone_width, 0.0),
     );
 }
 
@@ -60,8 +83,8 @@ fn densities(r: f32) -> vec3<f32> {
 // share the column densities.
 @compute @workgroup_size(8, 8, 1)
 fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let w = atmo.dims.x;
-    let h = atmo.dims.y;
+    let w = atmo.transmittance_width;
+    let h = atmo.transmittance_height;
     if (gid.x >= w || gid.y >= h) {
         return;
     }
@@ -69,8 +92,8 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
     let v = (f32(gid.y) + 0.5) / f32(h);
     let x_mu = unit_from_tex(u, w);
     let x_r = unit_from_tex(v, h);
-    let b = atmo.s0.x;
-    let top = atmo.s0.y;
+    let b = atmo.bottom_radius;
+    let top = atmo.top_radius;
     let hh = safe_sqrt(top * top - b * b);
     let rho = hh * x_r;
     let r = safe_sqrt(rho * rho + b * b);
@@ -82,7 +105,7 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
         mu = clamp((hh * hh - rho * rho - d * d) / (2.0 * r * d), -1.0, 1.0);
     }
     let len = distance_to_top(r, mu);
-    let steps = atmo.dims.z;
+    let steps = atmo.transmittance_steps;
     let dt = len / f32(steps);
     var col = vec3<f32>(0.0);
     for (var i = 0u; i < steps; i = i + 1u) {
@@ -102,10 +125,10 @@ fn transmittance(@builtin(global_invocation_id) gid: vec3<u32>) {
 // (the texel coordinates computed once), with the Earth's-shadow
 // visibility `vis` (> 0) already computed.
 fn sun_transmittance_s(r: f32, mu_s: f32, vis: f32) -> array<vec4<f32>, 3> {
-    let w = atmo.dims.x;
-    let h = atmo.dims.y;
-    let b = atmo.s0.x;
-    let top = atmo.s0.y;
+    let w = atmo.transmittance_width;
+    let h = atmo.transmittance_height;
+    let b = atmo.bottom_radius;
+    let top = atmo.top_radius;
     let hh = safe_sqrt(top * top - b * b);
     let rho = safe_sqrt(r * r - b * b);
     let d = distance_to_top(r, mu_s);
@@ -151,11 +174,11 @@ fn multiscatter(
     @builtin(workgroup_id) wid: vec3<u32>,
     @builtin(local_invocation_index) lane: u32,
 ) {
-    let n = atmo.dims.w;
-    let nd = atmo.dims2.x;
-    let steps = atmo.dims2.y;
-    let b = atmo.s0.x;
-    let top = atmo.s0.y;
+    let n = atmo.multiscatter_n;
+    let nd = atmo.multiscatter_dirs;
+    let steps = atmo.multiscatter_steps;
+    let b = atmo.bottom_radius;
+    let top = atmo.top_radius;
     let v = (f32(wid.y) + 0.5) / f32(n);
     var r = b + clamp(unit_from_tex(v, n), 0.0, 1.0) * (top - b);
     r = clamp(r, b + 1e-3, top - 1e-3);
@@ -163,8 +186,8 @@ fn multiscatter(
     let mu_s = mu_s_from_unit(unit_from_tex(u, n));
     let sun = vec3<f32>(safe_sqrt(1.0 - mu_s * mu_s), 0.0, mu_s);
     let pos = vec3<f32>(0.0, 0.0, r);
-    let g = atmo.s1.z;
-    let cone = atmo.s2.y;
+    let g = atmo.mie_g;
+    let cone = atmo.cos_forward_peak;
     var l = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     var f = array<vec4<f32>, 3>(vec4<f32>(0.0), vec4<f32>(0.0), vec4<f32>(0.0));
     for (var di = lane; di < nd; di = di + WG) {
@@ -173,7 +196,7 @@ fn multiscatter(
         let cos_theta = dot(d, sun);
         let pr = rayleigh_phase(cos_theta);
         var pm: f32;
-        if (atmo.s2.z > 0.0 && cos_theta > cone) {
+        if (atmo.forward_peak != 0u && cos_theta > cone) {
             pm = cornette_shanks_phase(g, cone);
         } else {
             pm = cornette_shanks_phase(g, cos_theta);
@@ -222,7 +245,7 @@ fn multiscatter(
             if (vis > 0.0) {
                 let tsun = sun_transmittance_s(rg, mug, vis);
                 for (var k = 0u; k < 3u; k = k + 1u) {
-                    ld[k] = ld[k] + tv[k] * tsun[k] * (max(mug, 0.0) * atmo.s1.w / PI);
+                    ld[k] = ld[k] + tv[k] * tsun[k] * (max(mug, 0.0) * atmo.ground_albedo / PI);
                 }
             }
         }
@@ -240,7 +263,7 @@ fn multiscatter(
         return;
     }
     let inv = 1.0 / f32(nd);
-    let orders = atmo.dims2.z;
+    let orders = atmo.orders;
     let idx = (wid.y * n + wid.x) * 3u;
     for (var k = 0u; k < 3u; k = k + 1u) {
         var l2 = vec4<f32>(0.0);

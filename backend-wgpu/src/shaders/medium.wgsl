@@ -1,7 +1,7 @@
 // Medium geometry and phase functions shared by luts.wgsl and skyview.wgsl
-// (appended to each; both declare their uniform as `atmo` with `s0` =
-// bottom, top, 1/H_R, 1/H_M and `s2.x` = the Sun's angular radius): ports
-// of medium.rs and lut.rs, as the CPU computes them.
+// (appended to each; both declare their uniform as `atmo` with the fields
+// `bottom_radius`, `top_radius` and `sun_angular_radius`): ports of
+// medium.rs and lut.rs, as the CPU computes them.
 
 const PI: f32 = 3.14159265358979;
 
@@ -25,25 +25,25 @@ fn hermite(e0: f32, e1: f32, x: f32) -> f32 {
 }
 
 fn distance_to_top(r: f32, mu: f32) -> f32 {
-    let top = atmo.s0.y;
+    let top = atmo.top_radius;
     return max(-r * mu + safe_sqrt(r * r * (mu * mu - 1.0) + top * top), 0.0);
 }
 
 fn distance_to_bottom(r: f32, mu: f32) -> f32 {
-    let b = atmo.s0.x;
+    let b = atmo.bottom_radius;
     return max(-r * mu - safe_sqrt(r * r * (mu * mu - 1.0) + b * b), 0.0);
 }
 
 fn hits_ground(r: f32, mu: f32) -> bool {
-    let b = atmo.s0.x;
+    let b = atmo.bottom_radius;
     return mu < 0.0 && r * r * (mu * mu - 1.0) + b * b >= 0.0;
 }
 
 // medium.rs `Medium::sun_visibility`.
 fn sun_visibility(r: f32, mu_s: f32) -> f32 {
-    let sin_h = min(atmo.s0.x / r, 1.0);
+    let sin_h = min(atmo.bottom_radius / r, 1.0);
     let cos_h = -safe_sqrt(1.0 - sin_h * sin_h);
-    let a = atmo.s2.x * sin_h;
+    let a = atmo.sun_angular_radius * sin_h;
     return hermite(-a, a, mu_s - cos_h);
 }
 

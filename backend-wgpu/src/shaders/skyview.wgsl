@@ -9,28 +9,55 @@
 // groups consecutively. The Rust mirror of `Atmo` is `AtmosphereUniforms`.
 
 struct Atmo {
+    // Rayleigh scattering at sea level (km⁻¹)
     rayleigh: array<vec4<f32>, 3>,
+    // aerosol scattering and extinction at sea level (km⁻¹)
     mie_scattering: array<vec4<f32>, 3>,
     mie_extinction: array<vec4<f32>, 3>,
+    // ozone absorption at the peak (km⁻¹)
     ozone: array<vec4<f32>, 3>,
+    // δ-scaled forward scattering f·σ_M (km⁻¹)
     forward: array<vec4<f32>, 3>,
     // band → linear sRGB weights (lux), per channel and band group
     w_r: array<vec4<f32>, 3>,
     w_g: array<vec4<f32>, 3>,
     w_b: array<vec4<f32>, 3>,
-    // bottom, top, 1/H_R, 1/H_M (km, km⁻¹)
-    s0: vec4<f32>,
-    // ozone peak altitude, 1/ozone half width, g, ground albedo
-    s1: vec4<f32>,
-    // Sun angular radius (rad), observer radius r0 (km), cos of the forward
-    // peak, 1 when the forward peak is on
-    s2: vec4<f32>,
-    // local Sun direction (x, 0, z), irradiance scale
-    sun: vec4<f32>,
-    // transmittance LUT w, h; multiple-scattering LUT n; march steps
-    dims: vec4<u32>,
-    // sky-view LUT w, h
-    dims2: vec4<u32>,
+    // local Sun direction (x, 0, z; unit)
+    sun: vec3<f32>,
+    // the light's irradiance scale (lut.rs `SkyViewInput`: (1 AU /
+    // distance)² for the Sun, the moonlight's scale for the Moon)
+    irradiance_scale: f32,
+    // medium.wgsl: ground and top-of-atmosphere radii (km), inverse scale
+    // heights of the Rayleigh and aerosol densities (km⁻¹)
+    bottom_radius: f32,
+    top_radius: f32,
+    inv_h_rayleigh: f32,
+    inv_h_mie: f32,
+    // ozone peak altitude (km), inverse ozone half width (km⁻¹)
+    ozone_peak: f32,
+    inv_ozone_width: f32,
+    // aerosol asymmetry g, ground albedo
+    mie_g: f32,
+    ground_albedo: f32,
+    // the Sun's angular radius (rad; medium.wgsl)
+    sun_angular_radius: f32,
+    // the observer's radius r0 (km)
+    observer_radius: f32,
+    // cos of the forward peak's half angle; 1 when the forward peak is
+    // flattened within it, 0 otherwise
+    cos_forward_peak: f32,
+    forward_peak: u32,
+    // transmittance LUT width and height, multiple-scattering LUT size n
+    // (n × n), ray-march steps per sky-view texel
+    transmittance_width: u32,
+    transmittance_height: u32,
+    multiscatter_n: u32,
+    sky_view_steps: u32,
+    // sky-view LUT width and height (texels)
+    sky_view_width: u32,
+    sky_view_height: u32,
+    _pad0: u32, // padding
+    _pad1: u32, // padding
 }
 
 @group(0) @binding(0) var<uniform> atmo: Atmo;
@@ -44,7 +71,7 @@ const HALF_PI: f32 = 1.57079632679490;
 
 // Bilinear lookup of band group k of a transmittance LUT (bilinear.wgsl).
 fn trans_sample(scattering: bool, u: f32, v: f32, k: u32) -> vec4<f32> {
-    let bl = bilinear(u, v, atmo.dims.x, atmo.dims.y);
+    let bl = bilinear(u, v, atmo.transmittance_width, atmo.transmittance_height);
     let i = bl.i * 3u + vec4<u32>(k);
     var t00: vec4<f32>;
     var t01: vec4<f32>;
@@ -73,8 +100,8 @@ fn sun_transmittance(scattering: bool, r: f32, mu_s: f32, k: u32) -> vec4<f32> {
     if (vis <= 0.0) {
         return vec4<f32>(0.0);
     }
-    let b = atmo.s0.x;
-    let top = atmo.s0.y;
+    let b = atmo.bottom_radius;
+    let top = atmo.top_radius;
     let hh = safe_sqrt(top * top - b * b);
     let rho = safe_sqrt(r * r - b * b);
     let d = distance_to_top(r, mu_s);
@@ -85,8 +112,8 @@ fn sun_transmittance(scattering: bool, r: f32, mu_s: f32, k: u32) -> vec4<f32> {
         x_mu = clamp((d - d_min) / (d_max - d_min), 0.0, 1.0);
     }
     let x_r = clamp(rho / hh, 0.0, 1.0);
-    let u = tex_from_unit(x_mu, atmo.dims.x);
-    let v = tex_from_unit(x_r, atmo.dims.y);
+    let u = tex_from_unit(x_mu, atmo.transmittance_width);
+    let v = tex_from_unit(x_r, atmo.transmittance_height);
     return trans_sample(scattering, u, v, k) * vis;
 }
 
@@ -96,9 +123,9 @@ fn unit_from_mu_s(mu_s: f32) -> f32 {
 }
 
 fn multiscatter_at(r: f32, mu_s: f32, k: u32) -> vec4<f32> {
-    let n = atmo.dims.z;
+    let n = atmo.multiscatter_n;
     let u = tex_from_unit(unit_from_mu_s(mu_s), n);
-    let v = tex_from_unit(clamp((r - atmo.s0.x) / (atmo.s0.y - atmo.s0.x), 0.0, 1.0), n);
+    let v = tex_from_unit(clamp((r - atmo.bottom_radius) / (atmo.top_radius - atmo.bottom_radius), 0.0, 1.0), n);
     let bl = bilinear(u, v, n, n);
     let i = bl.i * 3u + vec4<u32>(k);
     let a = multi[i.x] * (1.0 - bl.f.x) + multi[i.y] * bl.f.x;
@@ -118,13 +145,13 @@ fn transfer(r0: f32, view: vec3<f32>, sun: vec3<f32>, steps: u32, k: u32) -> vec
         t_max = distance_to_top(r0, mu);
     }
     let cos_theta = dot(view, sun);
-    let g = atmo.s1.z;
+    let g = atmo.mie_g;
     let pr = rayleigh_phase(cos_theta);
     let pm = cornette_shanks_phase(g, cos_theta);
     let fwd = atmo.forward[k];
-    let cone = atmo.s2.z;
+    let cone = atmo.cos_forward_peak;
     var pm_flat = pm;
-    if (atmo.s2.w > 0.0 && cos_theta > cone) {
+    if (atmo.forward_peak != 0u && cos_theta > cone) {
         pm_flat = cornette_shanks_phase(g, cone);
     }
     let t_h = max(distance_to_top(r0, 0.0), 1e-3);
@@ -145,10 +172,10 @@ fn transfer(r0: f32, view: vec3<f32>, sun: vec3<f32>, steps: u32, k: u32) -> vec
         let p = pos + view * t;
         let rp = length(p);
         let mus = dot(p, sun) / rp;
-        let hgt = max(rp - atmo.s0.x, 0.0);
-        let d_r = exp(-hgt * atmo.s0.z);
-        let d_m = exp(-hgt * atmo.s0.w);
-        let d_o = max(1.0 - abs(hgt - atmo.s1.x) * atmo.s1.y, 0.0);
+        let hgt = max(rp - atmo.bottom_radius, 0.0);
+        let d_r = exp(-hgt * atmo.inv_h_rayleigh);
+        let d_m = exp(-hgt * atmo.inv_h_mie);
+        let d_o = max(1.0 - abs(hgt - atmo.ozone_peak) * atmo.inv_ozone_width, 0.0);
         let sr = ray * d_r;
         let sm = mie_s * d_m;
         let ext = ray * d_r + mie_e * d_m + oz * d_o - fwd * d_m;
@@ -167,7 +194,7 @@ fn transfer(r0: f32, view: vec3<f32>, sun: vec3<f32>, steps: u32, k: u32) -> vec
         let rg = length(pg);
         let mug = dot(pg, sun) / rg;
         let tsun = sun_transmittance(true, rg, mug, k);
-        l = l + tv * tsun * (max(mug, 0.0) * atmo.s1.w / PI);
+        l = l + tv * tsun * (max(mug, 0.0) * atmo.ground_albedo / PI);
     }
     return l;
 }
@@ -201,8 +228,8 @@ fn to_rgb(f0: vec4<f32>, f1: vec4<f32>, f2: vec4<f32>) -> vec3<f32> {
 // One sky-view texel (lut.rs `SkyView::row`).
 @compute @workgroup_size(8, 8, 1)
 fn sky_view(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let w = atmo.dims2.x;
-    let h = atmo.dims2.y;
+    let w = atmo.sky_view_width;
+    let h = atmo.sky_view_height;
     if (gid.x >= w || gid.y >= h) {
         return;
     }
@@ -212,19 +239,19 @@ fn sky_view(@builtin(global_invocation_id) gid: vec3<u32>) {
     let xe = clamp(unit_from_tex(v, h), 0.0, 1.0);
     let e = xe * xe * HALF_PI;
     let d = vec3<f32>(cos(e) * cos(az), cos(e) * sin(az), sin(e));
-    let sun = atmo.sun.xyz;
-    let r0 = atmo.s2.y;
-    let steps = atmo.dims.w;
+    let sun = atmo.sun;
+    let r0 = atmo.observer_radius;
+    let steps = atmo.sky_view_steps;
     let f0 = transfer(r0, d, sun, steps, 0u);
     let f1 = transfer(r0, d, sun, steps, 1u);
     let f2 = transfer(r0, d, sun, steps, 2u);
-    let rgb = clip_to_gamut(to_rgb(f0, f1, f2)) * atmo.sun.w;
+    let rgb = clip_to_gamut(to_rgb(f0, f1, f2)) * atmo.irradiance_scale;
     sky[gid.y * w + gid.x] = vec4<f32>(rgb, 0.0);
 }
 
 fn sky_sample(u: f32, v: f32) -> vec3<f32> {
-    let w = atmo.dims2.x;
-    let h = atmo.dims2.y;
+    let w = atmo.sky_view_width;
+    let h = atmo.sky_view_height;
     let bl = bilinear(u, v, w, h);
     let a = mix(sky[bl.i.x].xyz, sky[bl.i.y].xyz, bl.f.x);
     let b = mix(sky[bl.i.z].xyz, sky[bl.i.w].xyz, bl.f.x);
@@ -239,8 +266,8 @@ var<workgroup> rings: array<vec3<f32>, 64>;
 // one workgroup, one ring per invocation, summed in ring order.
 @compute @workgroup_size(64, 1, 1)
 fn ground(@builtin(local_invocation_index) a: u32) {
-    let w = atmo.dims2.x;
-    let h = atmo.dims2.y;
+    let w = atmo.sky_view_width;
+    let h = atmo.sky_view_height;
     let ne = 64.0;
     let na = 64u;
     let e0 = f32(a) / ne * HALF_PI;
@@ -261,14 +288,14 @@ fn ground(@builtin(local_invocation_index) a: u32) {
         for (var i = 0u; i < 64u; i = i + 1u) {
             diffuse = diffuse + rings[i];
         }
-        let r0 = atmo.s2.y;
+        let r0 = atmo.observer_radius;
         let mu = clamp(atmo.sun.z, -1.0, 1.0);
         let t0 = sun_transmittance(false, r0, mu, 0u);
         let t1 = sun_transmittance(false, r0, mu, 1u);
         let t2 = sun_transmittance(false, r0, mu, 2u);
         let direct = to_rgb(t0, t1, t2);
         let mu_s = max(atmo.sun.z, 0.0);
-        let albedo = atmo.s1.w / PI;
-        sky[w * h] = vec4<f32>(albedo * (direct * mu_s * atmo.sun.w + diffuse), 0.0);
+        let albedo = atmo.ground_albedo / PI;
+        sky[w * h] = vec4<f32>(albedo * (direct * mu_s * atmo.irradiance_scale + diffuse), 0.0);
     }
 }
