@@ -64,7 +64,9 @@ fn benches(c: &mut Criterion) {
     let mut pixels = vec![[0.0f32; 3]; dirs.len()];
     g.bench_function("stars_pass_1920x1080", |b| {
         // The stars above the horizon (as the frame plan finds them) and their splats.
-        b.iter(|| night_pass::splat_all(&frame, &mut pixels, &night, &star_sources(&night, &nstate)))
+        b.iter(|| {
+            night_pass::splat_all(&frame, &mut pixels, &night, &star_sources(&night, &nstate))
+        })
     });
     g.bench_function("milkyway_pass_1920x1080", |b| {
         b.iter(|| night_pass::milkyway(&frame, &mut pixels, &dirs))

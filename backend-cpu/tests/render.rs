@@ -2,8 +2,8 @@
 
 use glam::DVec3;
 use himmel_cpu::CpuRenderer;
-use himmel_skymodel::frame::luts as cache;
 use himmel_skymodel::atmosphere::{AtmosphereParams, LutConfig};
+use himmel_skymodel::frame::luts as cache;
 use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
 
 fn scene(effects: Vec<Effect>, w: u32, h: u32, p: Projection) -> Scene {

@@ -211,8 +211,8 @@ fn parity_with_gpu_luts(name: &str, s: &Scene) {
     let second = r.render(s, &state);
     r.set_lut_source(before);
     let (first, second) = (first.unwrap(), second.unwrap());
-    assert_eq!(first.lut_source, "gpu", "{name}");
-    assert_eq!(second.lut_source, "memory", "{name}: LUTs reused");
+    assert_eq!(first.lut_source.name(), "gpu", "{name}");
+    assert_eq!(second.lut_source.name(), "memory", "{name}: LUTs reused");
     assert_eq!(first.image, second.image, "{name}");
     let g = first.image;
     let label = format!(
@@ -261,7 +261,7 @@ fn switching_the_source_recomputes() {
     let b = r.render(&s, &state).map(|o| o.lut_source);
     let b2 = r.render(&s, &state).map(|o| o.lut_source);
     r.set_lut_source(before);
-    assert_eq!(a.unwrap(), "gpu");
-    assert_eq!(b.unwrap(), "computed");
-    assert_eq!(b2.unwrap(), "memory");
+    assert_eq!(a.unwrap().name(), "gpu");
+    assert_eq!(b.unwrap().name(), "computed");
+    assert_eq!(b2.unwrap().name(), "memory");
 }

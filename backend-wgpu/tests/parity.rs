@@ -481,9 +481,11 @@ fn bright_planet_glare_perspective() {
     s.camera.pitch_deg = (brightest.dir.z as f64).asin().to_degrees();
     s.camera.fov_deg = 8.0;
     let frame = CpuRenderer::new(None)
-        .night_frame(&s, &state)
+        .plan(&s, &state)
+        .unwrap()
+        .night
         .expect("night passes planned");
-    let plans = frame.splat_plans(&s, &himmel_cpu::night_pass::planet_sources(&state));
+    let plans = frame.splat_plans(&s, &frame.planets);
     assert!(
         plans.iter().any(|(p, _)| p.glare_r_px > 2.0),
         "no glare: {plans:?}"
@@ -924,8 +926,8 @@ fn moon_rectangle_holds_every_drawn_pixel() {
     for s in &scenes {
         let state = SkyState::at(s).unwrap();
         let img = CpuRenderer::new(None).render(s, &state).unwrap().image;
-        let (u, _) = himmel_wgpu::moon_uniforms(s, &state, None, [2, 2, 2, 2]);
-        let [x0, y0, x1, y1] = u.disk_rect();
+        let rect = himmel_skymodel::frame::MoonFrame::new(s, &state, None, 0.0).rect;
+        let [x0, y0, x1, y1] = rect;
         let mut drawn = 0;
         for (i, p) in img.pixels.iter().enumerate() {
             if luminance(*p) > 0.0 {
@@ -935,7 +937,7 @@ fn moon_rectangle_holds_every_drawn_pixel() {
                     (x0..x1).contains(&x) && (y0..y1).contains(&y),
                     "{:?}: ({x}, {y}) outside {:?}",
                     s.camera.projection,
-                    u.disk_rect()
+                    rect
                 );
             }
         }

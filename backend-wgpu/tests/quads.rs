@@ -178,9 +178,11 @@ fn quads_planet_glare_perspective() {
     s.camera.pitch_deg = (p.dir.z as f64).asin().to_degrees();
     s.camera.fov_deg = 8.0;
     let frame = CpuRenderer::new(None)
-        .night_frame(&s, &state)
+        .plan(&s, &state)
+        .unwrap()
+        .night
         .expect("night passes planned");
-    let plans = frame.splat_plans(&s, &himmel_cpu::night_pass::planet_sources(&state));
+    let plans = frame.splat_plans(&s, &frame.planets);
     assert!(plans.iter().any(|(p, _)| p.glare_r_px > 2.0), "no glare");
     let (c, q) = compare("quads: planet glare, perspective 8°", &s, 20.0, 1, 5);
     // The glare disk's light: Σ luminance within its radius + 1 px.

@@ -72,11 +72,9 @@ impl std::fmt::Display for RenderError {
         match self {
             RenderError::Scene(e) => write!(f, "{}: {}", e.field, e.message),
             RenderError::Unavailable(u) => u.fmt(f),
-            RenderError::PassNotAvailable(e) => write!(
-                f,
-                "the {} pass is not available in this version",
-                e.name()
-            ),
+            RenderError::PassNotAvailable(e) => {
+                write!(f, "the {} pass is not available in this version", e.name())
+            }
             RenderError::Device(m) => write!(f, "wgpu: {m}"),
         }
     }
@@ -89,4 +87,3 @@ impl From<SceneError> for RenderError {
         RenderError::Scene(e)
     }
 }
-

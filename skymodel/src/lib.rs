@@ -52,9 +52,9 @@ pub mod sun;
 pub mod units;
 
 pub use camera::Exposure;
-pub use projection::{Camera, Projection};
 pub use frame::{FramePlan, LutOrigin, LutStore};
 pub use plan::{PlannedPass, SkipReason};
+pub use projection::{Camera, Projection};
 pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, Unavailable};
 pub use scene::{Effect, Scene, SceneError, StarParams};
 pub use state::{SkyState, SunState};

@@ -23,13 +23,13 @@ use himmel_astro::stars::FrameRotation;
 use himmel_astro::{Body, Observer, Sky};
 
 use crate::camera::{aces_filmic, exposure_scale, meter_ev100, srgb_encode, Exposure};
+use crate::plan::Culled;
 use crate::projection::{enu_from_alt_az, Camera};
 use crate::scene::{Effect, Scene};
 use crate::stars::{
     colour_from_bv, core_peak_luminance, illuminance_lux, refracted, star_frame, star_source,
     Extinction, PointSource, Scintillation, PLANET_BV,
 };
-use crate::plan::Culled;
 
 /// The night-sky part of the sky state.
 #[derive(Debug, Clone, PartialEq)]

@@ -370,7 +370,9 @@ mod tests {
                 b[at..].copy_from_slice(&f32::from_bits(v.to_bits() + 1).to_le_bytes());
             }),
             ("truncated", |b| b.truncate(b.len() / 2)),
-            ("another format version", |b| b[..8].copy_from_slice(b"HMLUT004")),
+            ("another format version", |b| {
+                b[..8].copy_from_slice(b"HMLUT004")
+            }),
         ];
         for (what, damage) in damages {
             let mut bytes = intact.clone();
@@ -381,7 +383,11 @@ mod tests {
             assert_eq!(origin, LutOrigin::Computed, "{what}");
             assert_eq!(l.transmittance.data, clean.transmittance.data, "{what}");
             assert_eq!(l.multiscatter.data, clean.multiscatter.data, "{what}");
-            assert_eq!(std::fs::read(&path).unwrap(), intact, "{what}: not replaced");
+            assert_eq!(
+                std::fs::read(&path).unwrap(),
+                intact,
+                "{what}: not replaced"
+            );
         }
         let _ = std::fs::remove_dir_all(&dir);
     }

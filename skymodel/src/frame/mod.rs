@@ -44,8 +44,8 @@ pub use sky_light::{CpuSkyViews, SkyInputs, SkyLight, SkyViewSource};
 pub use sun::{CoronaFrame, SunFrame};
 
 use crate::atmosphere::{AtmosphereLuts, SkyViewInput};
-use crate::plan::{PlannedPass, SkipReason};
 use crate::error::RenderError;
+use crate::plan::{PlannedPass, SkipReason};
 use crate::scene::{Effect, Scene};
 use crate::state::SkyState;
 
@@ -104,9 +104,9 @@ impl FramePlan {
             (None, LutOrigin::None)
         };
         let precompute_ms = ms(tp);
-        let r0 = luts.as_ref().map_or(0.0, |l| {
-            l.medium.bottom + state.observer_altitude_km as f32
-        });
+        let r0 = luts
+            .as_ref()
+            .map_or(0.0, |l| l.medium.bottom + state.observer_altitude_km as f32);
         let sky_inputs = atmosphere.then(|| sky_inputs(scene, state));
         let mut plan = FramePlan {
             passes: state.passes.clone(),

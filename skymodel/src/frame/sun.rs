@@ -162,8 +162,7 @@ impl CoronaFrame {
             pixel: cam.max_pixel_angle() as f32,
             cos_outer: (6.0 * rs32).cos(),
             mean: (state.sun.irradiance_scale
-                / (std::f64::consts::PI * (rs32 as f64).sin().powi(2)))
-                as f32,
+                / (std::f64::consts::PI * (rs32 as f64).sin().powi(2))) as f32,
             edge: corona_relative(6.0) as f32,
             rect: pixel_rect(cam, state.sun.dir().normalize(), 6.0 * rs),
             weights: BandWeights::solar(),
@@ -195,7 +194,12 @@ impl CoronaFrame {
     /// The corona's brightness (mean radiance × transmittance, linear sRGB)
     /// at `n` zenith cosines over its extent, for shaders: the table, its
     /// first node and spacing.
-    pub fn table(&self, luts: Option<&AtmosphereLuts>, r0: f32, n: usize) -> (Vec<[f32; 4]>, f32, f32) {
+    pub fn table(
+        &self,
+        luts: Option<&AtmosphereLuts>,
+        r0: f32,
+        n: usize,
+    ) -> (Vec<[f32; 4]>, f32, f32) {
         let half = std::f64::consts::FRAC_PI_2;
         let rs = self.sun_radius as f64;
         let alt = (self.sun.z as f64).clamp(-1.0, 1.0).asin();
@@ -276,4 +280,66 @@ pub fn pixel_rect(cam: &Camera, centre: DVec3, margin: f64) -> [u32; 4] {
     let (rx0, ry0) = (clamp_x((x0 - 2.0).floor()), clamp_y((y0 - 2.0).floor()));
     let (rx1, ry1) = (clamp_x((x1 + 2.0).ceil()), clamp_y((y1 + 2.0).ceil()));
     [rx0, ry0, rx1.max(rx0), ry1.max(ry0)]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::projection::enu_from_alt_az;
+
+    /// Every pixel centre within the margin of the Sun lies in the Sun
+    /// pass's rectangle: equirect seam and poles, fisheye horizon and
+    /// zenith, perspective edges (brute force over all pixel centres).
+    #[test]
+    fn pixel_rect_holds_every_pixel_within_the_margin() {
+        let cams = [
+            (Projection::Equirect, 256, 128, 0.0, 0.0),
+            (Projection::Fisheye, 128, 128, 0.0, 0.0),
+            (Projection::Perspective, 160, 96, 10.0, 20.0),
+        ];
+        let suns = [
+            (0.5, 0.0),
+            (0.5, 359.5),
+            (89.0, 120.0),
+            (-1.0, 300.0),
+            (20.0, 180.0),
+            (30.0, 40.0),
+            (-89.5, 10.0),
+        ];
+        for (p, w, h, yaw, pitch) in cams {
+            let cam = Camera {
+                projection: p,
+                width: w,
+                height: h,
+                yaw_deg: yaw,
+                pitch_deg: pitch,
+                fov_deg: 90.0,
+            };
+            for (alt, az) in suns {
+                let sun = enu_from_alt_az(f64::to_radians(alt), f64::to_radians(az));
+                let margin = 0.004_65 + 1.5 * cam.max_pixel_angle();
+                let [x0, y0, x1, y1] = pixel_rect(&cam, sun, margin);
+                let mut inside = 0;
+                for y in 0..h {
+                    for x in 0..w {
+                        let Some(d) = cam.pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5) else {
+                            continue;
+                        };
+                        if d.dot(sun) >= margin.cos() {
+                            inside += 1;
+                            assert!(
+                                (x0..x1).contains(&x) && (y0..y1).contains(&y),
+                                "{p:?} Sun ({alt}, {az}): pixel ({x}, {y}) outside {:?}",
+                                (x0, y0, x1, y1)
+                            );
+                        }
+                    }
+                }
+                // The rectangle is tight when it is not the whole image.
+                if (x0, y0, x1, y1) != (0, 0, w, h) {
+                    assert!(inside > 0 || (x1 - x0) * (y1 - y0) < w * h / 4);
+                }
+            }
+        }
+    }
 }

@@ -100,8 +100,7 @@ pub use photometry::{
     HAPKE_H, HAPKE_S_COEFF, LUX_MAG0, MEAN_MOON_DISTANCE_KM, SURGE_B0, SURGE_H,
 };
 pub use shader::{
-    refraction_of_apparent, unrefract, MoonEclipse, MoonShader,
-    REFRACTION_FRAME_BELOW_DEG,
+    refraction_of_apparent, unrefract, MoonEclipse, MoonShader, REFRACTION_FRAME_BELOW_DEG,
 };
 
 use glam::{DVec3, Vec3};

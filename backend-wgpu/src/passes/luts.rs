@@ -8,7 +8,8 @@
 //! sky-view shader reads (three vec4 band groups per texel).
 //!
 //! [`LutSource`] chooses between these and the CPU precompute
-//! (`himmel_cpu::precompute`, with its disk cache) uploaded.
+//! (the frame plan's LUT store: `himmel_skymodel::frame::luts::precompute`
+//! with its disk cache) uploaded, held in a [`LutSlot`].
 
 use bytemuck::{Pod, Zeroable};
 use himmel_skymodel::atmosphere::lut::{forward_scattering, sphere_directions, Lut2};
@@ -17,14 +18,14 @@ use himmel_skymodel::renderer::RenderError;
 use himmel_skymodel::spectrum::{Spectrum, BANDS};
 use wgpu::util::DeviceExt;
 
-use crate::{band_groups, bind_group, storage_entry, uniform_entry};
+use crate::gpu::{bind_group, storage_entry, uniform_entry, Gpu};
 
 /// The WGSL source of the LUT passes: `luts.wgsl` followed by the medium
 /// functions it shares with the sky-view passes (`medium.wgsl`).
 pub const LUTS_WGSL: &str = concat!(
-    include_str!("shaders/luts.wgsl"),
-    include_str!("shaders/medium.wgsl"),
-    include_str!("shaders/bilinear.wgsl")
+    include_str!("../shaders/luts.wgsl"),
+    include_str!("../shaders/medium.wgsl"),
+    include_str!("../shaders/bilinear.wgsl")
 );
 
 /// Where [`crate::WgpuRenderer`] takes the parameter-dependent LUTs from.
@@ -34,7 +35,7 @@ pub enum LutSource {
     /// `gpu`), read back once per parameter set for the CPU-side tables
     /// (Sun disk, star extinction).
     Gpu,
-    /// The CPU precompute (`himmel_cpu::precompute`, memory and disk
+    /// The LUT store's CPU precompute (`himmel_skymodel::frame::LutStore`, memory and disk
     /// cache: `lut_source` `computed`, `disk-cache`, `memory`), uploaded.
     Cpu,
 }
@@ -182,7 +183,21 @@ impl LutPipelines {
                 storage_entry(4, true),
             ],
         });
-        let pipeline = crate::compute_pipelines(device, &module, &layout, "atmosphere LUTs");
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("atmosphere LUTs"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
         LutPipelines {
             transmittance: pipeline("transmittance"),
             multiscatter: pipeline("multiscatter"),
@@ -216,10 +231,10 @@ fn check(config: &LutConfig) -> Result<(), RenderError> {
     ];
     for (name, v) in sizes {
         if v == 0 || v > u32::MAX as usize / 64 {
-            return Err(RenderError::Scene(
-                format!("lut.{name}"),
-                format!("must be in 1..={}, got {v}", u32::MAX / 64),
-            ));
+            return Err(RenderError::Scene(himmel_skymodel::SceneError {
+                field: format!("lut.{name}"),
+                message: format!("must be in 1..={}, got {v}", u32::MAX / 64),
+            }));
         }
     }
     Ok(())
@@ -308,7 +323,7 @@ pub fn dispatch(
 }
 
 fn wgpu_err(e: impl std::fmt::Display) -> RenderError {
-    RenderError::Other(format!("wgpu: {e}"))
+    RenderError::Device(e.to_string())
 }
 
 /// Waits for the LUT passes, copies the three buffers back and assembles
@@ -385,7 +400,7 @@ pub fn compute(
     let bufs = dispatch(device, queue, p, params, config)?;
     let luts = read_back(device, queue, &bufs, params, config);
     if let Some(e) = pollster::block_on(scope.pop()) {
-        return Err(RenderError::Other(format!("wgpu: {e}")));
+        return Err(RenderError::Device(e.to_string()));
     }
     Ok((bufs, luts?))
 }
@@ -491,5 +506,84 @@ mod tests {
         assert_eq!(u.forward[1][1], forward_scattering(&m, &cfg).0[5]);
         assert!((u.cos_forward_peak - 15f32.to_radians().cos()).abs() < 1e-7);
         assert_eq!(u.forward_peak, 1);
+    }
+}
+
+/// A spectrum as three vec4 band groups (the last two lanes zero).
+pub fn band_groups(s: &Spectrum) -> [[f32; 4]; 3] {
+    let mut g = [[0.0f32; 4]; 3];
+    for (b, v) in s.0.iter().enumerate() {
+        g[b / 4][b % 4] = *v;
+    }
+    g
+}
+
+fn lut_groups(l: &Lut2<Spectrum>) -> Vec<[f32; 4]> {
+    l.data.iter().flat_map(band_groups).collect()
+}
+
+/// The parameter-dependent LUTs on the GPU (three vec4 band groups per
+/// texel), for the parameters they were uploaded or computed for.
+pub struct GpuLuts {
+    params: AtmosphereParams,
+    config: LutConfig,
+    /// Computed by the LUT compute shaders (not uploaded).
+    on_gpu: bool,
+    /// Transmittance.
+    pub trans: wgpu::Buffer,
+    /// δ-scaled transmittance.
+    pub trans_s: wgpu::Buffer,
+    /// Multiple scattering Ψ_ms.
+    pub multi: wgpu::Buffer,
+}
+
+/// The renderer's LUTs on the GPU, kept while the parameters do not change.
+#[derive(Default)]
+pub struct LutSlot(Option<GpuLuts>);
+
+impl LutSlot {
+    /// The LUTs of `luts`' parameters on the GPU, uploaded unless they are
+    /// there already (uploaded or computed by the shaders).
+    pub fn upload(&mut self, gpu: &Gpu, luts: &AtmosphereLuts) -> &GpuLuts {
+        if let Some(g) = self.0.take() {
+            if g.params == luts.params && g.config == luts.config {
+                return self.0.insert(g);
+            }
+        }
+        let buf = |label, l| {
+            gpu.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents: bytemuck::cast_slice(&lut_groups(l)),
+                    usage: wgpu::BufferUsages::STORAGE,
+                })
+        };
+        self.0.insert(GpuLuts {
+            params: luts.params.clone(),
+            config: luts.config,
+            on_gpu: false,
+            trans: buf("transmittance", &luts.transmittance),
+            trans_s: buf("scattering transmittance", &luts.scattering_transmittance),
+            multi: buf("multiple scattering", &luts.multiscatter),
+        })
+    }
+
+    /// Whether it holds LUTs the shaders computed for these parameters.
+    pub fn computed_for(&self, params: &AtmosphereParams, config: &LutConfig) -> bool {
+        self.0
+            .as_ref()
+            .is_some_and(|g| g.on_gpu && g.params == *params && g.config == *config)
+    }
+
+    /// Holds LUTs the shaders computed for these parameters.
+    pub fn set_computed(&mut self, params: &AtmosphereParams, config: &LutConfig, b: LutBuffers) {
+        self.0 = Some(GpuLuts {
+            params: params.clone(),
+            config: *config,
+            on_gpu: true,
+            trans: b.trans,
+            trans_s: b.trans_s,
+            multi: b.multi,
+        });
     }
 }
