@@ -139,6 +139,63 @@ fn cache_round_trip_and_key_changes_with_parameters() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// A damaged LUT cache file — texels changed to other finite values,
+/// truncated, or of another format version — is never used: the renderer
+/// recomputes the LUTs (`lut_source` `computed`), replaces the file, and
+/// renders the same image as with a clean cache.
+#[test]
+fn a_damaged_cache_file_is_recomputed_and_the_image_is_unchanged() {
+    let dir = std::env::temp_dir().join(format!("himmel-damaged-cache-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let mut s = scene(
+        vec![Effect::Atmosphere, Effect::Sun],
+        64,
+        64,
+        Projection::Fisheye,
+    );
+    s.lut = LutConfig::small();
+    let state = SkyState::at(&s).unwrap();
+    let clean = CpuRenderer::new(Some(dir.clone()))
+        .render(&s, &state)
+        .unwrap();
+    assert_eq!(clean.lut_source.name(), "computed");
+    let path = cache::cache_path(&dir, &s.atmosphere, &s.lut);
+    let intact = std::fs::read(&path).unwrap();
+    let from_disk = CpuRenderer::new(Some(dir.clone()))
+        .render(&s, &state)
+        .unwrap();
+    assert_eq!(from_disk.lut_source.name(), "disk-cache");
+    assert_eq!(from_disk.image, clean.image);
+    type Damage = fn(&mut Vec<u8>);
+    let damages: [(&str, Damage); 3] = [
+        ("1000 texels altered", |b| {
+            for k in 0..1000 {
+                let at = 12 + 4 * (k * 131 % ((b.len() - 12) / 4));
+                let v = f32::from_le_bytes([b[at], b[at + 1], b[at + 2], b[at + 3]]);
+                b[at..at + 4].copy_from_slice(&(v * 0.9).to_le_bytes());
+            }
+        }),
+        ("truncated", |b| b.truncate(b.len() - 400)),
+        ("format version 4", |b| b[..8].copy_from_slice(b"HMLUT004")),
+    ];
+    for (what, damage) in damages {
+        let mut bytes = intact.clone();
+        damage(&mut bytes);
+        std::fs::write(&path, &bytes).unwrap();
+        let out = CpuRenderer::new(Some(dir.clone()))
+            .render(&s, &state)
+            .unwrap();
+        assert_eq!(out.lut_source.name(), "computed", "{what}");
+        assert_eq!(out.image, clean.image, "{what}: image differs");
+        assert_eq!(
+            std::fs::read(&path).unwrap(),
+            intact,
+            "{what}: file not replaced"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 #[test]
 fn fast_directions_equal_the_projection_definition() {
     for p in [

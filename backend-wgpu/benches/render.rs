@@ -32,7 +32,7 @@
 //!   parameter change);
 //! * `cpu_luts_upload` — `himmel_cpu::precompute` (all cores) plus the
 //!   upload (what `LutSource::Cpu` pays without a cache hit);
-//! * `disk_cache_load` — `himmel_cpu::cache::load` of the same LUTs (what
+//! * `disk_cache_load` — `himmel_skymodel::frame::luts::load` of the same LUTs (what
 //!   `LutSource::Cpu` pays on a disk-cache hit, before the upload).
 //!
 //! `cargo bench -p himmel-wgpu --bench render` (on lavapipe without a GPU).
@@ -178,9 +178,9 @@ fn precompute(c: &mut Criterion, gpu: &mut WgpuRenderer) {
     });
     let dir = std::env::temp_dir().join(format!("himmel-bench-luts-{}", std::process::id()));
     let stored = himmel_cpu::precompute(&params, &config, false);
-    if himmel_cpu::cache::store(&dir, &stored).is_ok() {
+    if himmel_skymodel::frame::luts::store(&dir, &stored).is_ok() {
         g.bench_function("disk_cache_load", |b| {
-            b.iter(|| himmel_cpu::cache::load(&dir, &params, &config).unwrap())
+            b.iter(|| himmel_skymodel::frame::luts::load(&dir, &params, &config).unwrap())
         });
     }
     let _ = std::fs::remove_dir_all(&dir);

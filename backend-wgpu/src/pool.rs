@@ -129,6 +129,11 @@ impl BufferPool {
     pub fn len(&self) -> usize {
         self.0.lock().unwrap_or_else(|e| e.into_inner()).len()
     }
+
+    /// Whether no buffer is held yet.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
 }
 
 impl Slot {

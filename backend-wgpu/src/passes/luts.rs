@@ -52,10 +52,9 @@ impl LutSource {
     /// The default for an adapter: the compute shaders on a hardware GPU;
     /// the CPU precompute on a software adapter (`DeviceType::Cpu`, e.g.
     /// Mesa's lavapipe), which runs on the same cores: there the shaders
-    /// measured only ≈ 20 % faster per computation (175 vs 215 ms at the
-    /// default `LutConfig`, `benches/render.rs` group `precompute`), while
-    /// the CPU precompute's disk cache serves every later process in
-    /// ≈ 1.3 ms.
+    /// gain little per computation while the CPU precompute's disk cache
+    /// serves every later process in about a millisecond (figures: README,
+    /// `benches/render.rs` group `precompute`).
     pub fn default_for(device_type: wgpu::DeviceType) -> Self {
         match device_type {
             wgpu::DeviceType::Cpu => LutSource::Cpu,

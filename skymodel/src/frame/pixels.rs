@@ -58,7 +58,10 @@ impl<'a> PixelDirections<'a> {
     #[inline]
     pub fn dir(&self, x: usize, y: usize) -> Option<Vec3> {
         match self.cam.projection {
-            Projection::Fisheye => fisheye(x, y, self.w, self.h),
+            Projection::Fisheye => {
+                let (r, dy) = fisheye_row(y, self.w, self.h);
+                fisheye(x, self.w, r, dy)
+            }
             Projection::Equirect => {
                 let (sa, ca) = equirect_row(y, self.h);
                 let (s, c) = self.columns[x];
@@ -74,6 +77,12 @@ impl<'a> PixelDirections<'a> {
     /// Fills `out` (one image row) with the directions of row `y`.
     pub fn row(&self, y: usize, out: &mut [Option<Vec3>]) {
         match self.cam.projection {
+            Projection::Fisheye => {
+                let (r, dy) = fisheye_row(y, self.w, self.h);
+                for (x, o) in out.iter_mut().enumerate() {
+                    *o = fisheye(x, self.w, r, dy);
+                }
+            }
             Projection::Equirect => {
                 let (sa, ca) = equirect_row(y, self.h);
                 for (o, &(s, c)) in out.iter_mut().zip(&self.columns) {
@@ -101,12 +110,19 @@ impl<'a> PixelDirections<'a> {
     }
 }
 
-/// Fisheye (azimuthal equidistant, zenith at the centre, North up, East
-/// left): the direction of pixel (x, y) of a `w` × `h` image.
+/// Fisheye: the image circle's radius and row `y`'s offset from the
+/// centre (px) of a `w` × `h` image.
 #[inline]
-fn fisheye(x: usize, y: usize, w: usize, h: usize) -> Option<Vec3> {
+fn fisheye_row(y: usize, w: usize, h: usize) -> (f32, f32) {
     let r = (w.min(h) as f64 / 2.0) as f32;
-    let dy = (y as f64 + 0.5 - h as f64 / 2.0) as f32;
+    (r, (y as f64 + 0.5 - h as f64 / 2.0) as f32)
+}
+
+/// Fisheye (azimuthal equidistant, zenith at the centre, North up, East
+/// left): the direction of pixel `x` of a `w`-wide image's row with
+/// offset `dy` ([`fisheye_row`]).
+#[inline]
+fn fisheye(x: usize, w: usize, r: f32, dy: f32) -> Option<Vec3> {
     let dx = (x as f64 + 0.5 - w as f64 / 2.0) as f32;
     let rho = (dx * dx + dy * dy).sqrt();
     let zenith = std::f32::consts::FRAC_PI_2 * rho / r;
