@@ -23,6 +23,8 @@
 //!   its passes;
 //! * [`spectrum`] — bands, solar spectrum, CIE functions, sRGB;
 //! * [`projection`] — fisheye, equirect, perspective, cube map;
+//! * [`refraction`] — ENU directions raised or lowered by the standard
+//!   refraction;
 //! * [`camera`] — metering, exposure, night vision, tone curve, sRGB, dither;
 //! * [`renderer`], [`error`] — the [`SkyRenderer`] trait, its output and errors.
 //!
@@ -43,6 +45,7 @@ pub mod moon;
 pub mod night;
 pub mod plan;
 pub mod projection;
+pub mod refraction;
 pub mod renderer;
 pub mod scene;
 pub mod spectrum;

@@ -49,9 +49,6 @@
 use std::sync::OnceLock;
 
 use glam::{DMat3, Mat3, Vec3};
-use himmel_astro::frames::{
-    refraction_apparent_to_true, STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C,
-};
 
 use crate::stars::colour_from_bv;
 
@@ -85,18 +82,7 @@ pub fn van_rhijn(cos_z: f32) -> f32 {
     1.0 / (1.0 - k * k * s2).max(1e-6).sqrt()
 }
 
-/// The true (airless) direction of an apparent ENU direction `d`:
-/// standard refraction (1010 hPa, 10 °C, Meeus eq. 16.3) taken off the altitude.
-pub fn unrefracted(d: Vec3) -> Vec3 {
-    let horizontal = d.x.hypot(d.y);
-    if horizontal < 1e-9 {
-        return d;
-    }
-    let alt = d.z.atan2(horizontal) as f64;
-    let r = refraction_apparent_to_true(alt, STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C);
-    let (s, c) = ((alt - r) as f32).sin_cos();
-    Vec3::new(d.x / horizontal * c, d.y / horizontal * c, s)
-}
+pub use crate::refraction::unrefracted;
 
 /// The Milky Way brightness map (see the module documentation).
 #[derive(Debug, Clone, PartialEq)]

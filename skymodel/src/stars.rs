@@ -39,10 +39,7 @@
 
 use std::sync::OnceLock;
 
-use glam::{DVec3, Vec3};
-use himmel_astro::frames::{
-    refraction_true_to_apparent, STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C,
-};
+use glam::Vec3;
 use himmel_astro::stars::{FastStar, FrameRotation};
 use himmel_astro::units::J2000;
 use himmel_catalog::color::{star_rgb, LocusModel};
@@ -74,18 +71,7 @@ pub struct PointSource {
     pub id: u32,
 }
 
-/// Raises the altitude of the unrefracted ENU direction `enu` by the
-/// standard refraction (Meeus eq. 16.4, 1010 hPa, 10 °C), keeping the azimuth.
-pub fn refracted(enu: DVec3) -> DVec3 {
-    let horizontal = enu.x.hypot(enu.y);
-    let alt = enu.z.atan2(horizontal);
-    let r = refraction_true_to_apparent(alt, STANDARD_PRESSURE_HPA, STANDARD_TEMPERATURE_C);
-    if horizontal < 1e-12 {
-        return enu;
-    }
-    let (s, c) = (alt + r).sin_cos();
-    DVec3::new(enu.x / horizontal * c, enu.y / horizontal * c, s)
-}
+pub use crate::refraction::refracted;
 
 /// A catalogue star prepared for rendering.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -609,6 +595,7 @@ fn deposit(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use glam::DVec3;
 
     fn integrate(pixels: &[[f32; 3]], cam: &Camera) -> f64 {
         let (w, _) = cam.image_size();

@@ -16,32 +16,10 @@ use crate::spectrum::{luminance, BandWeights, Spectrum};
 /// at 10°, 3 % at 5° and 20 % at the horizon).
 pub const REFRACTION_FRAME_BELOW_DEG: f64 = 15.0;
 
-/// The refraction (radians) that [`unrefract`] takes off the apparent
-/// altitude `alt` (radians): Bennett's formula (Meeus eq. 16.3) at the
-/// standard 1010 hPa and 10 °C.
-#[inline]
-pub fn refraction_of_apparent(alt: f32) -> f32 {
-    himmel_astro::frames::refraction_apparent_to_true(
-        alt as f64,
-        himmel_astro::frames::STANDARD_PRESSURE_HPA,
-        himmel_astro::frames::STANDARD_TEMPERATURE_C,
-    ) as f32
-}
-
-/// The airless direction of the apparent (refracted) direction `d` (ENU,
-/// unit): its altitude lowered by Bennett's refraction (Meeus eq. 16.3,
-/// standard 1010 hPa, 10 °C), azimuth kept.
-#[inline]
-pub fn unrefract(d: Vec3) -> Vec3 {
-    let alt = d.z.clamp(-1.0, 1.0).asin();
-    let r = refraction_of_apparent(alt);
-    let hz = (d.x * d.x + d.y * d.y).sqrt();
-    if hz < 1e-9 {
-        return d;
-    }
-    let (s, c) = (alt - r).sin_cos();
-    Vec3::new(d.x / hz * c, d.y / hz * c, s)
-}
+pub use crate::refraction::refraction_of_apparent;
+/// The airless direction of the apparent direction `d`
+/// ([`crate::refraction::unrefracted`]).
+pub use crate::refraction::unrefracted as unrefract;
 
 /// Per-frame constants of the Moon shader and its per-pixel evaluation.
 ///
