@@ -59,5 +59,5 @@ pub use frame::{FramePlan, LutOrigin, LutStore};
 pub use plan::{PlannedPass, SkipReason};
 pub use projection::{Camera, Projection};
 pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, Unavailable};
-pub use scene::{Effect, Scene, SceneError, StarParams};
+pub use scene::{Effect, Scene, SceneError, StarParams, WorldSpec};
 pub use state::{SkyState, SunState};

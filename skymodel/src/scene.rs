@@ -161,6 +161,18 @@ impl Default for StarParams {
     }
 }
 
+/// A 3D world under the sky (`shared/spec/world.md`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldSpec {
+    /// The glTF 2.0 file (`.gltf` or `.glb`), relative to the scene file.
+    pub gltf: String,
+    /// Adds an infinite Lambertian plane at y = 0 with
+    /// `atmosphere.ground_albedo` (default false).
+    #[serde(default)]
+    pub ground: bool,
+}
+
 /// The complete scene.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -192,6 +204,9 @@ pub struct Scene {
     pub stars: StarParams,
     /// Ordered dithering of 8-bit output (default true).
     pub dither: bool,
+    /// A 3D world under the sky (default none: a sky-only render).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub world: Option<WorldSpec>,
 }
 
 impl Default for Scene {
@@ -210,6 +225,7 @@ impl Default for Scene {
             night_vision: true,
             stars: StarParams::default(),
             dither: true,
+            world: None,
         }
     }
 }
