@@ -36,6 +36,15 @@ What is computed, and how (every definition matches spec/cli.md):
   are the instants when the topocentric Sun–Moon separation equals the sum
   (C1, C4) or difference (C2, C3) of the topocentric semidiameters (Sun
   695 700 km, Moon 1737.4 km); maximum = minimum separation.
+* events_solar_local_spread.json (`python3 tools/gen_events.py
+  solar_local_spread`) — the same local circumstances at sites placed on and
+  near the limits of the central paths of 23 eclipses spread over 2001–2050
+  (gen_solar_local_spread), plus Reykjavik 2026-08-12. The observer turns with
+  himmel's own ΔT (read from astro/src/time/delta_t_data.rs and the same
+  Espenak & Meeus extrapolation, himmel_delta_t_function), recorded per case
+  as `delta_t_s`: beyond the IERS table Skyfield predicts ΔT differently
+  (up to 17 s by 2050), which would move the contacts by seconds for reasons
+  that have nothing to do with the ephemerides.
 
 Sources: JPL DE421 (public domain) and IERS finals2000A.all, both from PyPI
 `skyfield-data`; Skyfield (MIT); Astronomy Engine (MIT).
@@ -332,8 +341,8 @@ def overlap_fraction(s, rs, rm):
     return (a1 + a2 - a3) / (math.pi * rs * rs)
 
 
-def local_geometry(observer, jd):
-    t = ts.tt_jd(jd)
+def local_geometry(observer, jd, tsx=None):
+    t = (tsx or ts).tt_jd(jd)
     o = observer.at(t)
     sa = o.observe(sun).apparent()
     ma = o.observe(moon).apparent()
@@ -346,48 +355,297 @@ def local_geometry(observer, jd):
     return sep, rs, rm, alt.degrees
 
 
+def local_case(tsx, label, lat, lon, day):
+    """Local circumstances at (lat, lon) of the eclipse nearest TT `day`
+    (searched over day +- 0.75), with the timescale `tsx`."""
+    observer = earth + wgs84.latlon(lat, lon, elevation_m=0.0)
+    geo = lambda x: local_geometry(observer, x, tsx)
+    f_outer = lambda x: (lambda g: g[0] - (g[1] + g[2]))(geo(x))
+    f_inner = lambda x: (lambda g: g[0] - abs(g[1] - g[2]))(geo(x))
+    grid = np.linspace(day - 0.75, day + 0.75, int(1.5 * DAY_MIN) + 1)
+    sep, rs, rm, _ = geo(grid)
+    i = int(np.argmin(sep))
+    # Golden-section refine of the minimum separation.
+    a, b = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
+    gr = (math.sqrt(5) - 1) / 2
+    for _ in range(60):
+        c = b - gr * (b - a)
+        dd = a + gr * (b - a)
+        if geo(np.array([c]))[0][0] < geo(np.array([dd]))[0][0]:
+            b = dd
+        else:
+            a = c
+    tmax = 0.5 * (a + b)
+    s, rs_, rm_, alt_max = [float(v[0]) for v in geo(np.array([tmax]))]
+    c1 = float(bisect(f_outer, np.array([tmax]), np.array([tmax - 0.3]), 45)[0])
+    c4 = float(bisect(f_outer, np.array([tmax]), np.array([tmax + 0.3]), 45)[0])
+    inner = s < abs(rs_ - rm_)
+    c2 = float(bisect(f_inner, np.array([tmax]), np.array([tmax - 0.1]), 45)[0]) if inner else None
+    c3 = float(bisect(f_inner, np.array([tmax]), np.array([tmax + 0.1]), 45)[0]) if inner else None
+    kind = 'partial'
+    if inner:
+        kind = 'total' if rm_ > rs_ else 'annular'
+    alt_c1 = float(geo(np.array([c1]))[3][0])
+    alt_c4 = float(geo(np.array([c4]))[3][0])
+    out = {
+        'label': label, 'lat': lat, 'lon': lon,
+        'c1_jd_tt': c1, 'c2_jd_tt': c2, 'max_jd_tt': tmax, 'c3_jd_tt': c3, 'c4_jd_tt': c4,
+        'max_utc': tsx.tt_jd(tmax).utc_iso(places=3),
+        'max_magnitude': (rs_ + rm_ - s) / (2 * rs_),
+        'max_obscuration': overlap_fraction(s, rs_, rm_),
+        'type_local': kind,
+        'sun_alt_c1_deg': alt_c1, 'sun_alt_max_deg': alt_max, 'sun_alt_c4_deg': alt_c4,
+        'delta_t_s': float(tsx.tt_jd(tmax).delta_t),
+    }
+    print(label, kind, out['max_utc'], flush=True)
+    return out
+
+
 def gen_solar_local():
     out = []
     for label, y, mo, d, lat, lon in LOCAL_CASES:
-        observer = earth + wgs84.latlon(lat, lon, elevation_m=0.0)
-        day = ts.utc(y, mo, d, 12).tt
-        f_outer = lambda x: (lambda g: g[0] - (g[1] + g[2]))(local_geometry(observer, x))
-        f_inner = lambda x: (lambda g: g[0] - abs(g[1] - g[2]))(local_geometry(observer, x))
-        grid = np.linspace(day - 0.75, day + 0.75, int(1.5 * DAY_MIN) + 1)
-        sep, rs, rm, _ = local_geometry(observer, grid)
-        i = int(np.argmin(sep))
-        # Golden-section refine of the minimum separation.
-        a, b = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
-        gr = (math.sqrt(5) - 1) / 2
-        for _ in range(60):
-            c = b - gr * (b - a)
-            dd = a + gr * (b - a)
-            if local_geometry(observer, np.array([c]))[0][0] < local_geometry(observer, np.array([dd]))[0][0]:
-                b = dd
+        case = local_case(ts, label, lat, lon, ts.utc(y, mo, d, 12).tt)
+        del case['delta_t_s']
+        out.append(case)
+    return out
+
+
+# ---------------------------------------------------------------- solar local, 2001-2050 spread
+# Central eclipses spread over 2001-2050 (dates of greatest eclipse, UTC):
+# total, annular and hybrid, low and high latitudes.
+SPREAD_ECLIPSES = [
+    (2001, 6, 21), (2003, 5, 31), (2005, 10, 3), (2006, 3, 29), (2009, 7, 22),
+    (2012, 5, 20), (2013, 11, 3), (2016, 3, 9), (2020, 6, 21), (2023, 4, 20),
+    (2026, 8, 12), (2027, 8, 2), (2030, 11, 25), (2033, 3, 30), (2034, 3, 20),
+    (2035, 9, 2), (2038, 7, 2), (2041, 4, 30), (2042, 4, 20), (2045, 8, 12),
+    (2046, 8, 2), (2048, 6, 11), (2050, 5, 20),
+]
+# Named sites near a path limit (label, year, month, day, lat, lon).
+SPREAD_NAMED = [
+    ('2026 total, Reykjavik (near the path limit)', 2026, 8, 12, 64.1466, -21.9426),
+]
+# Fractions of the distance from the central line to each path limit at
+# which sites are placed (inside: short totality/annularity, the contacts most
+# sensitive to the Moon's position; outside: a grazing partial eclipse).
+SPREAD_FRACTIONS = (('central line', 0.0, 0), ('0.95 to the left limit', 0.95, -1),
+                    ('0.95 to the right limit', 0.95, 1), ('1.05 beyond the right limit', 1.05, 1))
+
+HIMMEL_DELTA_T_RS = os.path.join(HERE, '..', 'astro', 'src', 'time', 'delta_t_data.rs')
+
+
+def himmel_delta_t_function():
+    """ΔT(TT JD) exactly as himmel computes it from 1973 on (astro/src/time/delta_t.rs).
+
+    Inside the IERS daily table the same values as Skyfield (the same
+    finals2000A.all, read here from the compiled table in delta_t_data.rs);
+    after its end Espenak & Meeus (2006) with the offset at the table end
+    faded out over 100 years. Skyfield extrapolates differently (about 70 s
+    flat until 2050, where himmel's model reaches 88 s): the prediction of
+    ΔT is no part of what the fixture measures, so the reference observer
+    turns with himmel's ΔT and the comparison isolates the ephemerides.
+    """
+    import re
+    from gen_delta_t import tai_minus_utc
+    text = open(HIMMEL_DELTA_T_RS).read()
+    first_mjd = int(re.search(r'DAILY_FIRST_MJD: i32 = (\d+);', text).group(1))
+    units = float(re.search(r'DAILY_UNITS_PER_SECOND: f64 = ([\d.]+);', text).group(1))
+    body = text.split('pub(crate) static DAILY_DELTA_T')[1].split('= [', 1)[1].split('];', 1)[0]
+    daily = np.array([int(v) for v in re.findall(r'-?\d+', body)], dtype=float) / units
+    first_jd_utc = 2400000.5 + first_mjd
+    last = len(daily) - 1
+    last_jd_utc = first_jd_utc + last
+
+    def tt_minus_utc(jd):
+        return 32.184 + tai_minus_utc(jd - 2400000.5)
+
+    last_jd_tt = last_jd_utc + tt_minus_utc(last_jd_utc) / 86400.0
+    first_jd_tt = first_jd_utc + tt_minus_utc(first_jd_utc) / 86400.0
+
+    def year_of(jd):
+        return 2000.0 + (jd - 2451545.0) / 365.25
+
+    def ms2004(y):
+        u = (y - 1820.0) / 100.0
+        return -20.0 + 32.0 * u * u
+
+    pieces = {
+        12: lambda y: 62.92 + 0.32217 * (y - 2000.0) + 0.005589 * (y - 2000.0) ** 2,
+        13: lambda y: ms2004(y) - 0.5628 * (2150.0 - y),
+        14: ms2004,
+    }
+    breaks = {12: 2050.0, 13: 2150.0}
+
+    def espenak_meeus(y):
+        if y < 2005.0:
+            raise ValueError('only the pieces after 2005 are ported')
+        i = 12 if y < 2050.0 else (13 if y < 2150.0 else 14)
+        v = pieces[i](y)
+        if i in breaks and breaks[i] - y < 25.0:
+            b = breaks[i]
+            v += (pieces[i + 1](b) - pieces[i](b)) * (1.0 - (b - y) / 25.0)
+        return v
+
+    offset = daily[last] - espenak_meeus(year_of(last_jd_tt))
+
+    def one(jd_tt):
+        if jd_tt < first_jd_tt:
+            raise ValueError('before 1973: not ported')
+        if jd_tt <= last_jd_tt:
+            x = jd_tt - tt_minus_utc(jd_tt) / 86400.0 - first_jd_utc
+            x = min(max(x, 0.0), float(last))
+            i = min(int(math.floor(x)), last - 1)
+            f = x - i
+            return daily[i] + f * (daily[i + 1] - daily[i])
+        y = year_of(jd_tt)
+        fade = max(0.0, 1.0 - (y - year_of(last_jd_tt)) / 100.0)
+        return espenak_meeus(y) + offset * fade
+
+    def delta_t(tt):
+        if np.ndim(tt) == 0:
+            return one(float(tt))
+        return np.array([one(float(v)) for v in np.ravel(tt)]).reshape(np.shape(tt))
+
+    return delta_t
+
+
+def axis_ground_point(tsx, jd):
+    """Where the shadow axis (Sun -> Moon, apparent places) meets the WGS84
+    ellipsoid at TT `jd`: (lat, lon) degrees, or None if it misses."""
+    from skyfield.framelib import itrs
+    t = tsx.tt_jd(jd)
+    e = earth.at(t)
+    m = e.observe(moon).apparent().frame_xyz(itrs).km
+    s = e.observe(sun).apparent().frame_xyz(itrs).km
+    d = (m - s) / np.linalg.norm(m - s)
+    a, f = 6378.137, 1.0 / 298.257223563
+    scale = np.array([1.0, 1.0, 1.0 / (1.0 - f)])
+    ms, ds = m * scale, d * scale
+    qa, qb, qc = ds @ ds, 2.0 * (ms @ ds), ms @ ms - a * a
+    disc = qb * qb - 4.0 * qa * qc
+    if disc < 0:
+        return None
+    lam = (-qb - math.sqrt(disc)) / (2.0 * qa)
+    p = m + lam * d
+    lon = math.degrees(math.atan2(p[1], p[0]))
+    e2 = f * (2.0 - f)
+    lat = math.degrees(math.atan2(p[2], (1.0 - e2) * math.hypot(p[0], p[1])))
+    return lat, lon
+
+
+def destination(lat, lon, bearing_deg, dist_km):
+    """Great-circle destination on a 6371 km sphere (placing sites only)."""
+    r = dist_km / 6371.0
+    p1, l1, b = math.radians(lat), math.radians(lon), math.radians(bearing_deg)
+    p2 = math.asin(math.sin(p1) * math.cos(r) + math.cos(p1) * math.sin(r) * math.cos(b))
+    l2 = l1 + math.atan2(math.sin(b) * math.sin(r) * math.cos(p1),
+                         math.cos(r) - math.sin(p1) * math.sin(p2))
+    return math.degrees(p2), (math.degrees(l2) + 540.0) % 360.0 - 180.0
+
+
+def bearing(lat1, lon1, lat2, lon2):
+    p1, p2 = math.radians(lat1), math.radians(lat2)
+    dl = math.radians(lon2 - lon1)
+    x = math.sin(dl) * math.cos(p2)
+    y = math.cos(p1) * math.sin(p2) - math.sin(p1) * math.cos(p2) * math.cos(dl)
+    return math.degrees(math.atan2(x, y))
+
+
+def golden_min(f, a, b, iters=40):
+    gr = (math.sqrt(5) - 1) / 2
+    for _ in range(iters):
+        c = b - gr * (b - a)
+        d = a + gr * (b - a)
+        if f(c) < f(d):
+            b = d
+        else:
+            a = c
+    return 0.5 * (a + b)
+
+
+def central_margin(tsx, lat, lon, t0):
+    """min over time of separation - |r_sun - r_moon| (radians) near TT t0:
+    negative inside the path of totality/annularity; and the Sun's altitude
+    at that instant (degrees)."""
+    observer = earth + wgs84.latlon(lat, lon, elevation_m=0.0)
+
+    def g(x):
+        sep, rs, rm, alt = local_geometry(observer, x, tsx)
+        return sep - np.abs(rs - rm), alt
+
+    grid = np.linspace(t0 - 0.1, t0 + 0.1, 577)
+    v, _ = g(grid)
+    i = int(np.argmin(v))
+    a, b = grid[max(i - 1, 0)], grid[min(i + 1, len(grid) - 1)]
+    tm = golden_min(lambda x: float(g(np.array([x]))[0][0]), a, b, 30)
+    v, alt = g(np.array([tm]))
+    return float(v[0]), float(alt[0])
+
+
+def path_limit(tsx, lat, lon, brg, t0):
+    """Distance (km) from (lat, lon) on the central line along `brg` to the
+    path limit, or None (no limit found on the sunlit Earth within 2000 km)."""
+    lo, hi = 0.0, 50.0
+    while True:
+        la, lo_ = destination(lat, lon, brg, hi)
+        m, alt = central_margin(tsx, la, lo_, t0)
+        if alt < 0.0:
+            return None
+        if m > 0.0:
+            break
+        lo, hi = hi, hi * 2.0
+        if hi > 2000.0:
+            return None
+    while hi - lo > 0.05:
+        mid = 0.5 * (lo + hi)
+        la, lo_ = destination(lat, lon, brg, mid)
+        if central_margin(tsx, la, lo_, t0)[0] > 0.0:
+            hi = mid
+        else:
+            lo = mid
+    return 0.5 * (lo + hi)
+
+
+def gen_solar_local_spread():
+    """Sites on and near the limits of the central paths of eclipses spread
+    over 2001-2050 (SPREAD_ECLIPSES): the central line at greatest eclipse
+    (Astronomy Engine's peak time; the point where the apparent shadow axis
+    meets the WGS84 ellipsoid), sites 0.95 of the way to either path limit
+    (measured perpendicular to the path), one 1.05 of the way beyond a limit
+    (grazing partial), and SPREAD_NAMED. Local circumstances as in
+    gen_solar_local, with himmel's ΔT (himmel_delta_t_function). Sites whose
+    Sun is below 1 degree at maximum are left out. The type in the labels is
+    Astronomy Engine's (it calls the hybrids of 2013, 2023 and 2050 total)."""
+    tsx = load.timescale(builtin=False)
+    tsx.delta_t_function = himmel_delta_t_function()
+    out = []
+    for y, mo, d in SPREAD_ECLIPSES:
+        g = astronomy.SearchGlobalSolarEclipse(astronomy.Time.Make(y, mo, d, 0, 0, 0).AddDays(-5.0))
+        tp = g.peak.tt + 2451545.0
+        kind = g.kind.name.lower()
+        p0 = axis_ground_point(tsx, tp)
+        pa, pb = axis_ground_point(tsx, tp - 2.0 / 1440), axis_ground_point(tsx, tp + 2.0 / 1440)
+        if p0 is None or pa is None or pb is None:
+            raise ValueError(f'{y}-{mo}-{d}: the axis misses the Earth at greatest eclipse')
+        track = bearing(pa[0], pa[1], pb[0], pb[1])
+        limits = {s: path_limit(tsx, p0[0], p0[1], track + 90.0 * s, tp) for s in (-1, 1)}
+        print(f'{y}-{mo:02}-{d:02} {kind}: central ({p0[0]:.3f}, {p0[1]:.3f}), track {track:.1f}°, '
+              f'limits {limits}', flush=True)
+        for name, frac, side in SPREAD_FRACTIONS:
+            if side == 0:
+                lat, lon = p0
             else:
-                a = c
-        tmax = 0.5 * (a + b)
-        s, rs_, rm_, alt_max = [float(v[0]) for v in local_geometry(observer, np.array([tmax]))]
-        c1 = float(bisect(f_outer, np.array([tmax]), np.array([tmax - 0.3]), 45)[0])
-        c4 = float(bisect(f_outer, np.array([tmax]), np.array([tmax + 0.3]), 45)[0])
-        inner = s < abs(rs_ - rm_)
-        c2 = float(bisect(f_inner, np.array([tmax]), np.array([tmax - 0.1]), 45)[0]) if inner else None
-        c3 = float(bisect(f_inner, np.array([tmax]), np.array([tmax + 0.1]), 45)[0]) if inner else None
-        kind = 'partial'
-        if inner:
-            kind = 'total' if rm_ > rs_ else 'annular'
-        alt_c1 = float(local_geometry(observer, np.array([c1]))[3][0])
-        alt_c4 = float(local_geometry(observer, np.array([c4]))[3][0])
-        out.append({
-            'label': label, 'lat': lat, 'lon': lon,
-            'c1_jd_tt': c1, 'c2_jd_tt': c2, 'max_jd_tt': tmax, 'c3_jd_tt': c3, 'c4_jd_tt': c4,
-            'max_utc': ts.tt_jd(tmax).utc_iso(places=3),
-            'max_magnitude': (rs_ + rm_ - s) / (2 * rs_),
-            'max_obscuration': overlap_fraction(s, rs_, rm_),
-            'type_local': kind,
-            'sun_alt_c1_deg': alt_c1, 'sun_alt_max_deg': alt_max, 'sun_alt_c4_deg': alt_c4,
-        })
-        print(label, kind, out[-1]['max_utc'], flush=True)
+                w = limits[side]
+                if w is None:
+                    continue
+                lat, lon = destination(p0[0], p0[1], track + 90.0 * side, frac * w)
+            label = f'{y}-{mo:02}-{d:02} {kind}, {name} ({lat:.4f}, {lon:.4f})'
+            case = local_case(tsx, label, round(lat, 4), round(lon, 4), tp)
+            if case['sun_alt_max_deg'] < 1.0:
+                print('  left out (Sun low):', label, flush=True)
+                continue
+            out.append(case)
+    for label, y, mo, d, lat, lon in SPREAD_NAMED:
+        out.append(local_case(tsx, label, lat, lon, tsx.utc(y, mo, d, 12).tt))
     return out
 
 
@@ -401,7 +659,8 @@ def dump(name, data, source):
 
 if __name__ == '__main__':
     import sys
-    which = sys.argv[1:] or ['phases', 'lunar', 'solar_local', 'solar_global', 'riseset']
+    which = sys.argv[1:] or ['phases', 'lunar', 'solar_local', 'solar_local_spread',
+                            'solar_global', 'riseset']
     src = 'JPL DE421 via Skyfield 1.55 (tools/gen_events.py)'
     if 'phases' in which:
         dump('events_phases.json', gen_phases(), src)
@@ -409,6 +668,9 @@ if __name__ == '__main__':
         dump('events_lunar.json', gen_lunar(), src)
     if 'solar_local' in which:
         dump('events_solar_local.json', gen_solar_local(), src)
+    if 'solar_local_spread' in which:
+        dump('events_solar_local_spread.json', gen_solar_local_spread(),
+             'JPL DE421 via Skyfield 1.55 with himmel\'s Delta T (tools/gen_events.py solar_local_spread)')
     if 'solar_global' in which:
         dump('events_solar_global.json', gen_solar_global(),
              'Astronomy Engine SearchGlobalSolarEclipse (tools/gen_events.py)')

@@ -281,6 +281,25 @@ fn bad_input_exits_2_with_one_line_naming_the_flag() {
             &[
                 "eclipses",
                 "--kind",
+                "solar",
+                "--local",
+                "--lat",
+                "0",
+                "--lon",
+                "0",
+                "--from",
+                "2024-01-01",
+                "--to",
+                "2025-01-01",
+                "--precision",
+                "best",
+            ],
+            "--precision",
+        ),
+        (
+            &[
+                "eclipses",
+                "--kind",
                 "comet",
                 "--from",
                 "2024-01-01",
@@ -299,4 +318,56 @@ fn bad_input_exits_2_with_one_line_naming_the_flag() {
         assert!(err.contains(needle), "{args:?}: {err}");
         assert!(out.stdout.is_empty());
     }
+}
+
+/// Seconds of the UTC day of an RFC 3339 time `…THH:MM:SS.sssZ`.
+fn day_seconds(v: &serde_json::Value) -> f64 {
+    let s = v.as_str().unwrap();
+    let clock = s.split_once('T').unwrap().1.trim_end_matches('Z');
+    let mut parts = clock.split(':').map(|p| p.parse::<f64>().unwrap());
+    let (h, m, sec) = (
+        parts.next().unwrap(),
+        parts.next().unwrap(),
+        parts.next().unwrap(),
+    );
+    h * 3600.0 + m * 60.0 + sec
+}
+
+#[test]
+fn local_solar_eclipses_default_to_the_de421_moon() {
+    // Reykjavik, 2026-08-12, near the path limit: without --precision the
+    // contacts are those of --precision high (DE421 Moon); an explicit
+    // --precision standard is honoured (Meeus Moon: C2 about 15 s later).
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "eclipses",
+            "--kind",
+            "solar",
+            "--local",
+            "--lat",
+            "64.1466",
+            "--lon",
+            "-21.9426",
+            "--from",
+            "2026-08-01",
+            "--to",
+            "2026-09-01",
+            "--format",
+            "json",
+        ];
+        args.extend_from_slice(extra);
+        let v = json(&himmel(&args));
+        assert_eq!(v.as_array().unwrap().len(), 1);
+        assert_eq!(v[0]["type_local"], "total");
+        v[0].clone()
+    };
+    let default = run(&[]);
+    let high = run(&["--precision", "high"]);
+    let standard = run(&["--precision", "standard"]);
+    for key in ["c1_utc", "c2_utc", "c3_utc", "c4_utc"] {
+        let d = day_seconds(&default[key]);
+        assert!((d - day_seconds(&high[key])).abs() < 0.05, "{key}");
+    }
+    let off = (day_seconds(&default["c2_utc"]) - day_seconds(&standard["c2_utc"])).abs();
+    assert!(off > 5.0, "standard C2 only {off} s from the default");
 }

@@ -1,6 +1,7 @@
 //! Criterion benchmarks of the event searches (issue 3 speed targets):
 //! all lunar eclipses 1900–2050 (< 1 s) and a year of daily Sun and Moon
-//! rise/set/transit for one site (< 0.2 s), standard precision.
+//! rise/set/transit for one site (< 0.2 s), standard precision; the local
+//! solar eclipse search also at the CLI default (DE421 Moon) and high.
 //!
 //! `cargo bench -p himmel-tests --bench events`
 
@@ -8,7 +9,9 @@ use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use himmel_astro::events::lunar_eclipse::lunar_eclipses;
 use himmel_astro::events::phases::phases;
 use himmel_astro::events::riseset::rise_set_transit;
-use himmel_astro::events::solar_eclipse::{local_solar_eclipses, solar_eclipses};
+use himmel_astro::events::solar_eclipse::{
+    local_solar_eclipses, local_solar_eclipses_preferring_de421, solar_eclipses,
+};
 use himmel_astro::time::days_in_month;
 use himmel_astro::{Body, Instant, Observer, Precision, Tiered, UtcDateTime};
 
@@ -59,6 +62,29 @@ fn searches(c: &mut Criterion) {
         b.iter(|| {
             black_box(
                 local_solar_eclipses(EPH, &berlin, &utc(2000), &utc(2051))
+                    .unwrap()
+                    .count(),
+            )
+        })
+    });
+    // The `himmel eclipses --kind solar --local` default: DE421 Moon (high
+    // tier) for the local circumstances, standard for the global scan.
+    g.bench_function(
+        "local solar eclipses 2000-2050 (Berlin), default: DE421 Moon",
+        |b| {
+            b.iter(|| {
+                black_box(
+                    local_solar_eclipses_preferring_de421(EPH, &berlin, &utc(2000), &utc(2051))
+                        .unwrap()
+                        .count(),
+                )
+            })
+        },
+    );
+    g.bench_function("local solar eclipses 2000-2050 (Berlin), high", |b| {
+        b.iter(|| {
+            black_box(
+                local_solar_eclipses(Tiered(Precision::High), &berlin, &utc(2000), &utc(2051))
                     .unwrap()
                     .count(),
             )

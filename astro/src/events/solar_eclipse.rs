@@ -40,11 +40,23 @@
 //! eclipse is *visible* (and returned by the local search) when the Sun's
 //! centre is above the standard −0.8333° horizon at some moment between C1
 //! and C4.
+//!
+//! **Which Moon.** Contacts are only as good as the Moon's place: with the
+//! standard tier's Meeus ch. 47 series (a few arcseconds) they are off by
+//! 10 s in the open and up to 40 s near a path limit, where the limbs graze
+//! and a site may even change its local type; with the DE421 Moon of
+//! [`Precision::High`] they are within 0.5 s of DE421.
+//! [`local_solar_eclipses_preferring_de421`] uses the high tier for every
+//! eclipse the DE421 Moon covers ([`de421_covers_eclipse`]) and a given
+//! fallback elsewhere, at about the standard tier's cost; it is what
+//! `himmel eclipses --kind solar --local` runs unless `--precision` is given.
 
 use glam::DVec3;
 
-use crate::ephemeris::{Body, Ephemeris, Epoch};
+use crate::ephemeris::{Apparent, Body, Ephemeris, Epoch, Precision, Tiered};
 use crate::error::AstroError;
+use crate::frames::NutationModel;
+use crate::moon::DE421_SPAN;
 use crate::observe::Observer;
 use crate::time::Instant;
 use crate::units::*;
@@ -498,13 +510,86 @@ pub fn local_circumstances<E: Ephemeris>(
 
 /// Iterator over the solar eclipses visible from an observer (module docs)
 /// whose local maximum lies in `[from, to)` (made by
-/// [`local_solar_eclipses`]; no allocation).
+/// [`local_solar_eclipses`] or [`local_solar_eclipses_preferring_de421`];
+/// no allocation).
 #[derive(Debug, Clone)]
 pub struct LocalSolarEclipses<E> {
     global: GlobalSolarEclipses<E>,
     observer: Observer,
     from: JulianDay,
     to: JulianDay,
+    /// Local circumstances with `Tiered(Precision::High)` wherever
+    /// [`de421_covers_eclipse`].
+    prefer_de421: bool,
+}
+
+/// Days on either side of greatest eclipse that the DE421 Moon must cover
+/// for [`local_solar_eclipses_preferring_de421`] to use it: the local
+/// search window of [`local_circumstances`] (± 0.25 day) with room to spare
+/// (the light time, the visibility check between C1 and C4), so that one
+/// eclipse never mixes two Moons.
+pub const DE421_ECLIPSE_MARGIN_DAYS: f64 = 0.5;
+
+/// The high tier for the local circumstances of one eclipse at close to the
+/// standard tier's cost: the DE421 Moon of [`Precision::High`], and the Sun
+/// of the standard tier (truncated VSOP87D, 17× cheaper than the full series)
+/// plus the difference full − truncated taken once, at greatest eclipse. The
+/// terms the truncation drops change slowly, so within ± 0.5 day of
+/// greatest eclipse the sum stays within 0.03″ and 20 km of the full series
+/// (unit test `high_sun_offset_holds_over_an_eclipse_window`: 0.021″, 14 km;
+/// a few hundredths of a second of contact time), where the truncated
+/// series alone is off by up to 0.8″ (2.8 s of contact time near a path
+/// limit).
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct HighForEclipse {
+    /// Full − truncated VSOP87D apparent ecliptic longitude, latitude
+    /// (radians) and distance (km) of the Sun at greatest eclipse.
+    sun_offset: (Radians, Radians, Km),
+}
+
+impl HighForEclipse {
+    fn new(greatest: JulianDay) -> Result<HighForEclipse, AstroError> {
+        let epoch = Epoch::new(&instant_tt(greatest), Precision::High.nutation_model());
+        let full = Tiered(Precision::High).apparent(Body::Sun, &epoch)?;
+        let truncated = Tiered(Precision::Standard).apparent(Body::Sun, &epoch)?;
+        Ok(HighForEclipse {
+            sun_offset: (
+                wrap_pi(full.ecl_lon - truncated.ecl_lon),
+                full.ecl_lat - truncated.ecl_lat,
+                full.distance_km - truncated.distance_km,
+            ),
+        })
+    }
+}
+
+impl Ephemeris for HighForEclipse {
+    fn nutation_model(&self) -> NutationModel {
+        // Standard and high share IAU 1980, so the offset is of date too.
+        Precision::High.nutation_model()
+    }
+
+    fn apparent(&self, body: Body, epoch: &Epoch) -> Result<Apparent, AstroError> {
+        if body != Body::Sun {
+            return Tiered(Precision::High).apparent(body, epoch);
+        }
+        let s = Tiered(Precision::Standard).apparent(Body::Sun, epoch)?;
+        let (dlon, dlat, dkm) = self.sun_offset;
+        Ok(Apparent::from_ecliptic(
+            s.ecl_lon + dlon,
+            s.ecl_lat + dlat,
+            s.distance_km + dkm,
+            epoch,
+        ))
+    }
+}
+
+/// Whether the embedded DE421 Moon ([`DE421_SPAN`], 1899-07-29 …
+/// 2053-10-09) covers the whole local-circumstances window of the eclipse
+/// whose greatest global eclipse is at TT Julian day `greatest`
+/// (± [`DE421_ECLIPSE_MARGIN_DAYS`]).
+pub fn de421_covers_eclipse(greatest: JulianDay) -> bool {
+    let (first, last) = DE421_SPAN;
+    greatest - DE421_ECLIPSE_MARGIN_DAYS >= first && greatest + DE421_ECLIPSE_MARGIN_DAYS <= last
 }
 
 /// All solar eclipses visible from `observer` with the local maximum in
@@ -515,6 +600,47 @@ pub fn local_solar_eclipses<E: Ephemeris>(
     from: &Instant,
     to: &Instant,
 ) -> Result<LocalSolarEclipses<E>, AstroError> {
+    local_search(eph, observer, from, to, false)
+}
+
+/// All solar eclipses visible from `observer` with the local maximum in
+/// `[from, to)`, each with the best Moon available: the local circumstances
+/// of an eclipse that the DE421 Moon covers ([`de421_covers_eclipse`]:
+/// greatest eclipse between 1899-07-30 and 2053-10-08) come from the high
+/// tier (DE421 Moon, full VSOP87D Sun), those of any other eclipse from
+/// `fallback`. The choice is made per eclipse, never within one. `fallback`
+/// also runs the global scan that finds the eclipses and centres each local
+/// search window (its greatest-eclipse instant is only a starting point).
+///
+/// The high tier's Sun is evaluated as the truncated series plus the
+/// full − truncated difference at greatest eclipse (within 0.03″ of the full
+/// series over the eclipse): the results equal those of
+/// [`local_solar_eclipses`] with `Tiered(Precision::High)` to a few
+/// hundredths of a second, at about 1.3× the cost of the standard tier
+/// instead of about 14× (criterion, README).
+///
+/// This is what `himmel eclipses --kind solar --local` runs when no
+/// `--precision` is given, with `fallback = Tiered(Precision::Standard)`:
+/// contacts within 2 s of DE421 for 2001–2050 (0.48 s at worst over 92
+/// sites on and near the limits of 23 central paths, test
+/// `local_solar_default_within_2_s_of_de421_2001_2050` in `tests/`; the
+/// standard tier: 40 s, and a different local type at 10 of them).
+pub fn local_solar_eclipses_preferring_de421<E: Ephemeris>(
+    fallback: E,
+    observer: &Observer,
+    from: &Instant,
+    to: &Instant,
+) -> Result<LocalSolarEclipses<E>, AstroError> {
+    local_search(fallback, observer, from, to, true)
+}
+
+fn local_search<E: Ephemeris>(
+    eph: E,
+    observer: &Observer,
+    from: &Instant,
+    to: &Instant,
+    prefer_de421: bool,
+) -> Result<LocalSolarEclipses<E>, AstroError> {
     let (a, b) = check_interval(from, to)?;
     let global = solar_eclipses(eph, &instant_tt(a - 0.3), &instant_tt(b + 0.3))?;
     Ok(LocalSolarEclipses {
@@ -522,6 +648,7 @@ pub fn local_solar_eclipses<E: Ephemeris>(
         observer: *observer,
         from: a,
         to: b,
+        prefer_de421,
     })
 }
 
@@ -534,7 +661,14 @@ impl<E: Ephemeris> Iterator for LocalSolarEclipses<E> {
                 Ok(g) => g,
                 Err(e) => return Some(Err(e)),
             };
-            match local_circumstances(self.global.0.ephemeris(), &self.observer, g.greatest.jd_tt) {
+            let greatest = g.greatest.jd_tt;
+            let local = if self.prefer_de421 && de421_covers_eclipse(greatest) {
+                HighForEclipse::new(greatest)
+                    .and_then(|eph| local_circumstances(&eph, &self.observer, greatest))
+            } else {
+                local_circumstances(self.global.0.ephemeris(), &self.observer, greatest)
+            };
+            match local {
                 Ok(Some(l)) if l.visible && l.max.jd_tt >= self.from && l.max.jd_tt < self.to => {
                     return Some(Ok(l))
                 }
@@ -548,6 +682,38 @@ impl<E: Ephemeris> Iterator for LocalSolarEclipses<E> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn high_sun_offset_holds_over_an_eclipse_window() {
+        // The Sun of HighForEclipse against the full VSOP87D Sun, ± 0.5 day
+        // around 400 instants over the DE421 span (every 141 days, 1900–2053).
+        let (mut worst, mut worst_km): (f64, f64) = (0.0, 0.0);
+        for k in 0..400 {
+            let t0 = 2_415_100.0 + 141.0 * k as f64;
+            let eph = HighForEclipse::new(t0).unwrap();
+            for dt in [-0.5, -0.25, 0.0, 0.25, 0.5] {
+                let epoch = Epoch::new(&instant_tt(t0 + dt), eph.nutation_model());
+                let a = eph.apparent(Body::Sun, &epoch).unwrap();
+                let b = Tiered(Precision::High).apparent(Body::Sun, &epoch).unwrap();
+                let sep = a
+                    .vector_km()
+                    .normalize()
+                    .angle_between(b.vector_km().normalize());
+                worst = worst.max(sep / ARCSEC);
+                worst_km = worst_km.max((a.distance_km - b.distance_km).abs());
+                let m = eph.apparent(Body::Moon, &epoch).unwrap();
+                assert_eq!(
+                    m,
+                    Tiered(Precision::High)
+                        .apparent(Body::Moon, &epoch)
+                        .unwrap()
+                );
+            }
+        }
+        // Measured: 0.021″ and 14 km (20 km of 1 AU: 0.0001″ of semidiameter).
+        assert!(worst < 0.03, "{worst}\"");
+        assert!(worst_km < 20.0, "{worst_km} km");
+    }
 
     #[test]
     fn overlap_fraction_limits_and_equal_disks() {
