@@ -7,6 +7,7 @@ use clap::Args;
 use himmel_cpu::output::{self, Format as ImageFormat};
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::camera::{CameraSettings, Exposure};
+use himmel_skymodel::file::write_bytes;
 use himmel_skymodel::scene::parse_effects;
 use himmel_skymodel::{Projection, RenderError, Scene, SkyRenderer, SkyState};
 use serde_json::json;
@@ -259,7 +260,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     let t_write = Clock::now();
     let ev = match format {
         ImageFormat::Exr => {
-            output::write_exr(output, &out.image).map_err(CliError::other)?;
+            output::write_exr(output, &out.image).map_err(|e| write_error("--output", e))?;
             None
         }
         ImageFormat::Png => {
@@ -268,7 +269,10 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
                 night_vision: scene.night_vision,
                 dither: scene.dither,
             };
-            Some(output::write_png(output, &out.image, &settings).map_err(CliError::other)?)
+            Some(
+                output::write_png(output, &out.image, &settings)
+                    .map_err(|e| write_error("--output", e))?,
+            )
         }
     };
     let write_ms = t_write.elapsed().as_secs_f64() * 1e3;
@@ -302,10 +306,15 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         });
         let text =
             serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
-        std::fs::write(path, text + "\n")
-            .map_err(|e| CliError::other(format!("--stats {}: {e}", path.display())))?;
+        write_bytes(path, (text + "\n").as_bytes())
+            .map_err(|e| write_error("--stats", e.to_string()))?;
     }
     Ok(())
+}
+
+/// A failed file write (exit 1): `FLAG FILE: what failed`.
+fn write_error(flag: &str, e: String) -> CliError {
+    CliError::other(format!("{flag} {e}"))
 }
 
 fn cpu_renderer() -> Box<dyn SkyRenderer> {
