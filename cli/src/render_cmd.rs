@@ -43,7 +43,7 @@ pub struct RenderArgs {
     /// fisheye, equirect, perspective or cubemap (default fisheye).
     #[arg(long, value_name = "NAME")]
     projection: Option<String>,
-    /// Perspective camera azimuth, degrees from North through East.
+    /// Perspective camera azimuth, degrees from North through East, in [-720, 720].
     #[arg(long, value_name = "DEG")]
     yaw: Option<f64>,
     /// Perspective camera altitude, degrees in [-90, 90].
@@ -78,14 +78,15 @@ pub struct RenderArgs {
     output: Option<PathBuf>,
 }
 
-/// A scene error as a one-line input error naming the flag and the field.
-fn scene_error(e: himmel_skymodel::SceneError) -> CliError {
-    CliError::input(format!(
-        "{} ({}): {}",
-        flag_of(&e.field),
-        e.field,
-        e.message
-    ))
+/// A scene error as a one-line input error naming the flag and the field:
+/// `--lat (observer.lat_deg): …` when the flag set the value, else
+/// `--scene FILE: field: …` (or `--scene (field): …` without a file).
+fn scene_error(a: &RenderArgs, e: himmel_skymodel::SceneError) -> CliError {
+    match (flag_of(a, &e.field), &a.scene) {
+        (Some(flag), _) => CliError::input(format!("{flag} ({}): {}", e.field, e.message)),
+        (None, Some(p)) => CliError::input(format!("--scene {}: {e}", p.display())),
+        (None, None) => CliError::input(format!("--scene ({}): {}", e.field, e.message)),
+    }
 }
 
 fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
@@ -112,23 +113,27 @@ fn size(flag: &str, v: u64) -> Result<u32, CliError> {
     })
 }
 
-/// The flag that sets a scene field, for error messages.
-fn flag_of(field: &str) -> &'static str {
-    match field {
-        "camera.width" => "--width",
-        "camera.height" => "--height",
-        "camera.fov_deg" => "--fov",
-        "camera.yaw_deg" => "--yaw",
-        "camera.pitch_deg" => "--pitch",
-        "observer.lat_deg" => "--lat",
-        "observer.lon_deg" => "--lon",
-        "observer.elevation_m" => "--elevation",
-        "time.utc" => "--time",
-        "precision" => "--precision",
-        "sun_scale" => "--sun-scale",
-        "moon_scale" => "--moon-scale",
-        _ => "--scene",
-    }
+/// The flag that set a scene field on this command line, if one did (for
+/// error messages).
+fn flag_of(a: &RenderArgs, field: &str) -> Option<&'static str> {
+    let (flag, given) = match field {
+        "camera.width" => ("--width", a.width.is_some()),
+        "camera.height" => ("--height", a.height.is_some()),
+        "camera.fov_deg" => ("--fov", a.fov.is_some()),
+        "camera.yaw_deg" => ("--yaw", a.yaw.is_some()),
+        "camera.pitch_deg" => ("--pitch", a.pitch.is_some()),
+        "observer.lat_deg" => ("--lat", a.lat.is_some()),
+        "observer.lon_deg" => ("--lon", a.lon.is_some()),
+        "observer.elevation_m" => ("--elevation", a.elevation.is_some()),
+        "time.utc" => ("--time", a.time.is_some()),
+        "precision" => ("--precision", a.precision.is_some()),
+        "sun_scale" => ("--sun-scale", a.sun_scale.is_some()),
+        "moon_scale" => ("--moon-scale", a.moon_scale.is_some()),
+        "exposure" => ("--exposure", a.exposure.is_some()),
+        _ => return None,
+    };
+    // Without a scene file every value comes from a flag or its default.
+    (given || a.scene.is_none()).then_some(flag)
 }
 
 /// Builds the scene from the file and the flags.
@@ -139,7 +144,7 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
                 CliError::input(format!("--scene {}: cannot read ({e})", p.display()))
             })?;
             Scene::from_json(&text)
-                .map_err(|e| CliError::input(format!("--scene {}: {}", p.display(), e.message)))?
+                .map_err(|e| CliError::input(format!("--scene {}: {e}", p.display())))?
         }
         None => {
             let mut s = Scene::default();
@@ -210,7 +215,7 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
     if let Some(v) = a.moon_scale {
         scene.moon_scale = finite("--moon-scale", v)?;
     }
-    scene.validate().map_err(scene_error)?;
+    scene.validate().map_err(|e| scene_error(a, e))?;
     Ok(scene)
 }
 
@@ -233,7 +238,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let scene = build_scene(a)?;
-    let state = SkyState::at(&scene).map_err(scene_error)?;
+    let state = SkyState::at(&scene).map_err(|e| scene_error(a, e))?;
     let t_init = Clock::now();
     let (mut renderer, mut timing) = make_renderer(backend)?;
     let init_ms = t_init.elapsed().as_secs_f64() * 1e3;
