@@ -1,9 +1,11 @@
 //! Image files: `.exr` holds linear sRGB in absolute cd/m²
 //! (conventions.md, Photometry); `.png` is the camera model's 8-bit sRGB.
 
+use std::io::Write;
 use std::path::Path;
 
 use himmel_skymodel::camera::{develop_pixel, exposure_ev100, exposure_scale, CameraSettings};
+use himmel_skymodel::file::write_file;
 use himmel_skymodel::HdrImage;
 use rayon::prelude::*;
 
@@ -27,14 +29,63 @@ impl Format {
     }
 }
 
-/// Writes a linear absolute EXR.
+/// Writes a linear absolute EXR through [`write_file`] (a synced temporary
+/// renamed into place; every error names the file).
 pub fn write_exr(path: &Path, img: &HdrImage) -> Result<(), String> {
     let data: Vec<f32> = img.pixels.iter().flat_map(|p| p.iter().copied()).collect();
     let buf = image::Rgb32FImage::from_raw(img.width as u32, img.height as u32, data)
-        .ok_or("image buffer size mismatch")?;
-    image::DynamicImage::ImageRgb32F(buf)
-        .save_with_format(path, image::ImageFormat::OpenExr)
-        .map_err(|e| format!("{}: {e}", path.display()))
+        .ok_or_else(|| format!("{}: image buffer size mismatch", path.display()))?;
+    let img = image::DynamicImage::ImageRgb32F(buf);
+    write_file(path, |w| {
+        // The EXR encoder reports a failed write as a "format error
+        // decoding OpenExr": name the write error itself.
+        let mut w = FirstIoError {
+            inner: w,
+            error: None,
+        };
+        img.write_to(&mut w, image::ImageFormat::OpenExr)
+            .map_err(|e| {
+                w.error
+                    .take()
+                    .map_or_else(|| e.to_string(), |io| io.to_string())
+            })
+    })
+    .map_err(|e| e.to_string())
+}
+
+/// A writer that keeps the first I/O error it passed on.
+struct FirstIoError<W> {
+    inner: W,
+    error: Option<std::io::Error>,
+}
+
+impl<W> FirstIoError<W> {
+    fn keep<T>(&mut self, r: std::io::Result<T>) -> std::io::Result<T> {
+        if let Err(e) = &r {
+            if self.error.is_none() {
+                self.error = Some(std::io::Error::new(e.kind(), e.to_string()));
+            }
+        }
+        r
+    }
+}
+
+impl<W: Write> Write for FirstIoError<W> {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        let r = self.inner.write(buf);
+        self.keep(r)
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        let r = self.inner.flush();
+        self.keep(r)
+    }
+}
+
+impl<W: std::io::Seek> std::io::Seek for FirstIoError<W> {
+    fn seek(&mut self, pos: std::io::SeekFrom) -> std::io::Result<u64> {
+        let r = self.inner.seek(pos);
+        self.keep(r)
+    }
 }
 
 /// Reads an RGB EXR back (tests, tools): width, height, pixels.
@@ -46,7 +97,8 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
     Ok((w, h, px))
 }
 
-/// Develops with the camera model and writes a PNG; returns the EV100 used.
+/// Develops with the camera model and writes a PNG through [`write_file`];
+/// returns the EV100 used.
 pub fn write_png(path: &Path, img: &HdrImage, settings: &CameraSettings) -> Result<f64, String> {
     // The camera model of himmel_skymodel::camera::develop, rows in parallel.
     let ev = exposure_ev100(&img.pixels, &img.valid, settings);
@@ -67,15 +119,30 @@ pub fn write_png(path: &Path, img: &HdrImage, settings: &CameraSettings) -> Resu
             }
         }
     });
-    let buf = image::RgbImage::from_raw(img.width as u32, img.height as u32, rgb8)
-        .ok_or("image buffer size mismatch")?;
-    let file = std::fs::File::create(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let enc = image::codecs::png::PngEncoder::new_with_quality(
-        std::io::BufWriter::new(file),
-        image::codecs::png::CompressionType::Fast,
-        image::codecs::png::FilterType::Adaptive,
-    );
-    buf.write_with_encoder(enc)
-        .map_err(|e| format!("{}: {e}", path.display()))?;
+    let rgb8 = rgb8
+        .get(..img.width * img.height * 3)
+        .ok_or_else(|| format!("{}: image buffer size mismatch", path.display()))?;
+    write_file(path, |w| {
+        encode_png(w, img.width as u32, img.height as u32, rgb8)
+    })
+    .map_err(|e| e.to_string())?;
     Ok(ev)
+}
+
+/// Encodes 8-bit RGB as PNG (fast compression, adaptive filters) and
+/// finishes the stream, so that no error is lost in a drop.
+fn encode_png(
+    w: impl Write,
+    width: u32,
+    height: u32,
+    rgb8: &[u8],
+) -> Result<(), png::EncodingError> {
+    let mut enc = png::Encoder::new(w, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Fast);
+    enc.set_filter(png::Filter::Adaptive);
+    let mut writer = enc.write_header()?;
+    writer.write_image_data(rgb8)?;
+    writer.finish()
 }

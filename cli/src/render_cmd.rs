@@ -7,6 +7,7 @@ use clap::Args;
 use himmel_cpu::output::{self, Format as ImageFormat};
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::camera::{CameraSettings, Exposure};
+use himmel_skymodel::file::write_bytes;
 use himmel_skymodel::scene::parse_effects;
 use himmel_skymodel::{Projection, RenderError, Scene, SkyRenderer, SkyState};
 use serde_json::json;
@@ -42,7 +43,7 @@ pub struct RenderArgs {
     /// fisheye, equirect, perspective or cubemap (default fisheye).
     #[arg(long, value_name = "NAME")]
     projection: Option<String>,
-    /// Perspective camera azimuth, degrees from North through East.
+    /// Perspective camera azimuth, degrees from North through East, in [-720, 720].
     #[arg(long, value_name = "DEG")]
     yaw: Option<f64>,
     /// Perspective camera altitude, degrees in [-90, 90].
@@ -83,14 +84,15 @@ pub struct RenderArgs {
     ground: bool,
 }
 
-/// A scene error as a one-line input error naming the flag and the field.
-fn scene_error(e: himmel_skymodel::SceneError) -> CliError {
-    CliError::input(format!(
-        "{} ({}): {}",
-        flag_of(&e.field),
-        e.field,
-        e.message
-    ))
+/// A scene error as a one-line input error naming the flag and the field:
+/// `--lat (observer.lat_deg): …` when the flag set the value, else
+/// `--scene FILE: field: …` (or `--scene (field): …` without a file).
+fn scene_error(a: &RenderArgs, e: himmel_skymodel::SceneError) -> CliError {
+    match (flag_of(a, &e.field), &a.scene) {
+        (Some(flag), _) => CliError::input(format!("{flag} ({}): {}", e.field, e.message)),
+        (None, Some(p)) => CliError::input(format!("--scene {}: {e}", p.display())),
+        (None, None) => CliError::input(format!("--scene ({}): {}", e.field, e.message)),
+    }
 }
 
 fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
@@ -117,23 +119,27 @@ fn size(flag: &str, v: u64) -> Result<u32, CliError> {
     })
 }
 
-/// The flag that sets a scene field, for error messages.
-fn flag_of(field: &str) -> &'static str {
-    match field {
-        "camera.width" => "--width",
-        "camera.height" => "--height",
-        "camera.fov_deg" => "--fov",
-        "camera.yaw_deg" => "--yaw",
-        "camera.pitch_deg" => "--pitch",
-        "observer.lat_deg" => "--lat",
-        "observer.lon_deg" => "--lon",
-        "observer.elevation_m" => "--elevation",
-        "time.utc" => "--time",
-        "precision" => "--precision",
-        "sun_scale" => "--sun-scale",
-        "moon_scale" => "--moon-scale",
-        _ => "--scene",
-    }
+/// The flag that set a scene field on this command line, if one did (for
+/// error messages).
+fn flag_of(a: &RenderArgs, field: &str) -> Option<&'static str> {
+    let (flag, given) = match field {
+        "camera.width" => ("--width", a.width.is_some()),
+        "camera.height" => ("--height", a.height.is_some()),
+        "camera.fov_deg" => ("--fov", a.fov.is_some()),
+        "camera.yaw_deg" => ("--yaw", a.yaw.is_some()),
+        "camera.pitch_deg" => ("--pitch", a.pitch.is_some()),
+        "observer.lat_deg" => ("--lat", a.lat.is_some()),
+        "observer.lon_deg" => ("--lon", a.lon.is_some()),
+        "observer.elevation_m" => ("--elevation", a.elevation.is_some()),
+        "time.utc" => ("--time", a.time.is_some()),
+        "precision" => ("--precision", a.precision.is_some()),
+        "sun_scale" => ("--sun-scale", a.sun_scale.is_some()),
+        "moon_scale" => ("--moon-scale", a.moon_scale.is_some()),
+        "exposure" => ("--exposure", a.exposure.is_some()),
+        _ => return None,
+    };
+    // Without a scene file every value comes from a flag or its default.
+    (given || a.scene.is_none()).then_some(flag)
 }
 
 /// Builds the scene from the file and the flags.
@@ -144,7 +150,7 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
                 CliError::input(format!("--scene {}: cannot read ({e})", p.display()))
             })?;
             Scene::from_json(&text)
-                .map_err(|e| CliError::input(format!("--scene {}: {}", p.display(), e.message)))?
+                .map_err(|e| CliError::input(format!("--scene {}: {e}", p.display())))?
         }
         None => {
             let mut s = Scene::default();
@@ -226,7 +232,7 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
             None => return Err(CliError::input("--ground needs a world (--world FILE)")),
         }
     }
-    scene.validate().map_err(scene_error)?;
+    scene.validate().map_err(|e| scene_error(a, e))?;
     Ok(scene)
 }
 
@@ -293,7 +299,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             message: msg,
         });
     }
-    let state = SkyState::at(&scene).map_err(scene_error)?;
+    let state = SkyState::at(&scene).map_err(|e| scene_error(a, e))?;
     let t_init = Clock::now();
     let (mut renderer, mut timing) = make_renderer(backend)?;
     let init_ms = t_init.elapsed().as_secs_f64() * 1e3;
@@ -320,7 +326,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     let t_write = Clock::now();
     let ev = match format {
         ImageFormat::Exr => {
-            output::write_exr(output, &out.image).map_err(CliError::other)?;
+            output::write_exr(output, &out.image).map_err(|e| write_error("--output", e))?;
             None
         }
         ImageFormat::Png => {
@@ -329,7 +335,10 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
                 night_vision: scene.night_vision,
                 dither: scene.dither,
             };
-            Some(output::write_png(output, &out.image, &settings).map_err(CliError::other)?)
+            Some(
+                output::write_png(output, &out.image, &settings)
+                    .map_err(|e| write_error("--output", e))?,
+            )
         }
     };
     let write_ms = t_write.elapsed().as_secs_f64() * 1e3;
@@ -363,10 +372,15 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         });
         let text =
             serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
-        std::fs::write(path, text + "\n")
-            .map_err(|e| CliError::other(format!("--stats {}: {e}", path.display())))?;
+        write_bytes(path, (text + "\n").as_bytes())
+            .map_err(|e| write_error("--stats", e.to_string()))?;
     }
     Ok(())
+}
+
+/// A failed file write (exit 1): `FLAG FILE: what failed`.
+fn write_error(flag: &str, e: String) -> CliError {
+    CliError::other(format!("{flag} {e}"))
 }
 
 fn cpu_renderer() -> Box<dyn SkyRenderer> {

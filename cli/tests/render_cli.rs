@@ -74,7 +74,41 @@ fn scene_file_errors_name_the_field() {
     std::fs::write(&f, r#"{"camera": {"width": "wide"}}"#).unwrap();
     let (code, _, err) = render(&["--scene", &f, "--output", &out]);
     assert_eq!(code, 2);
-    assert!(err.contains("invalid type"), "{err}");
+    assert!(
+        err.starts_with(&format!(
+            "error: --scene {f}: camera.width: expected a whole number"
+        )) && err.contains("found a string"),
+        "{err}"
+    );
+    // A wrong type deep in the file, an overflow, a negative size, a
+    // value out of range, a document that is no object: exit 2, one line
+    // naming the field path.
+    for (text, needle) in [
+        (
+            r#"{"observer": {"lat_deg": "not-a-number"}}"#,
+            "observer.lat_deg: expected a number, found a string",
+        ),
+        (
+            r#"{"atmosphere": {"ozone_du": 1e999}}"#,
+            "atmosphere.ozone_du: ",
+        ),
+        (r#"{"lut": {"sky_view_w": -1}}"#, "lut.sky_view_w: "),
+        (
+            r#"{"lut": {"forward_peak_deg": -50}}"#,
+            "lut.forward_peak_deg: ",
+        ),
+        (r#"{"effects": ["sun", 3]}"#, "effects[1]: "),
+        ("[]", "a scene must be a JSON object"),
+    ] {
+        std::fs::write(&f, text).unwrap();
+        let (code, _, err) = render(&["--scene", &f, "--output", &out]);
+        assert_eq!(code, 2, "{text}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{err}");
+        assert!(
+            err.starts_with("error:") && err.contains(needle),
+            "{text}: {err}"
+        );
+    }
     let _ = std::fs::remove_file(&f);
 }
 

@@ -26,7 +26,9 @@
 //! * [`refraction`] — ENU directions raised or lowered by the standard
 //!   refraction;
 //! * [`camera`] — metering, exposure, night vision, tone curve, sRGB, dither;
-//! * [`renderer`], [`error`] — the [`SkyRenderer`] trait, its output and errors.
+//! * [`renderer`], [`error`] — the [`SkyRenderer`] trait, its output and errors;
+//! * `file` — [`file::write_file`]: every file written through a synced
+//!   temporary renamed into place, every error reported.
 //!
 //! Module dependencies run one way (no cycles; `tests/tests/architecture.rs`
 //! checks it): `units`, `spectrum` ← the models (`atmosphere`, `sun`,
@@ -39,6 +41,8 @@
 pub mod atmosphere;
 pub mod camera;
 pub mod error;
+#[cfg(feature = "std")]
+pub mod file;
 pub mod frame;
 pub mod milkyway;
 pub mod moon;

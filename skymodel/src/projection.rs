@@ -9,7 +9,7 @@
 use glam::DVec3;
 use serde::{Deserialize, Serialize};
 
-use crate::units::{Degrees, Steradians};
+use crate::units::{show, Degrees, Steradians};
 
 /// The image projection.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
@@ -45,13 +45,18 @@ impl Projection {
 pub struct Camera {
     /// Projection (default fisheye).
     pub projection: Projection,
-    /// Image width, pixels (default 1024; a cube map is always 6 × height wide).
+    /// Image width, pixels, at least 1 with width × height ≤ 64 Mpx
+    /// ([`MAX_PIXELS`]) (default 1024; a cube map is always 6 × height
+    /// wide and ignores it).
     pub width: u32,
-    /// Image height, pixels (default 1024; the face size of a cube map).
+    /// Image height, pixels, at least 1 with width × height ≤ 64 Mpx
+    /// (default 1024; the face size of a cube map, 6 × height² ≤ 64 Mpx).
     pub height: u32,
-    /// Azimuth the perspective camera looks at, degrees from North through East (default 0).
+    /// Azimuth the perspective camera looks at, degrees from North through
+    /// East, in [−720, 720] (two turns either way, so that sums such as an
+    /// azimuth plus an offset need no wrapping) (default 0).
     pub yaw_deg: Degrees,
-    /// Altitude the perspective camera looks at, degrees (default 0).
+    /// Altitude the perspective camera looks at, degrees in [−90, 90] (default 0).
     pub pitch_deg: Degrees,
     /// Vertical field of view of the perspective camera, degrees in (0, 180) (default 90).
     pub fov_deg: Degrees,
@@ -115,8 +120,15 @@ impl Camera {
         }
         let (w, h) = self.image_size();
         if w as u64 * h as u64 > MAX_PIXELS || w == u32::MAX {
+            // The size that makes the image too large: the height of a cube
+            // map (its width follows), else the larger side.
+            let field = if self.projection == Projection::Cubemap || self.height > self.width {
+                "camera.height"
+            } else {
+                "camera.width"
+            };
             return Err(CameraError {
-                field: "camera.width",
+                field,
                 message: format!(
                     "image of {w}×{h} pixels exceeds the limit of 64 Mpx ({MAX_PIXELS} pixels)"
                 ),
@@ -125,19 +137,19 @@ impl Camera {
         if !(self.fov_deg.is_finite() && self.fov_deg > 0.0 && self.fov_deg < 180.0) {
             return Err(CameraError {
                 field: "camera.fov_deg",
-                message: format!("{} is outside (0, 180) degrees", self.fov_deg),
+                message: format!("{} is outside (0, 180) degrees", show(self.fov_deg)),
             });
         }
-        if !self.yaw_deg.is_finite() {
+        if !(self.yaw_deg.is_finite() && (-720.0..=720.0).contains(&self.yaw_deg)) {
             return Err(CameraError {
                 field: "camera.yaw_deg",
-                message: "must be a finite number of degrees".into(),
+                message: format!("{} is outside [-720, 720] degrees", show(self.yaw_deg)),
             });
         }
         if !(self.pitch_deg.is_finite() && (-90.0..=90.0).contains(&self.pitch_deg)) {
             return Err(CameraError {
                 field: "camera.pitch_deg",
-                message: format!("{} is outside [-90, 90] degrees", self.pitch_deg),
+                message: format!("{} is outside [-90, 90] degrees", show(self.pitch_deg)),
             });
         }
         Ok(())

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
 use crate::projection::Camera;
+use crate::units::show;
 
 /// A sky effect (a render pass) a scene may call for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -96,9 +97,10 @@ pub fn parse_effects(list: &str) -> Result<Vec<Effect>, String> {
 pub struct ObserverSpec {
     /// Geodetic latitude, degrees in [−90, 90] (default 48.14, Munich).
     pub lat_deg: f64,
-    /// East longitude, degrees in [−180, 180] (default 11.58).
+    /// East longitude, degrees in [−180, 180]; 360-wrapped values in
+    /// [−360, 360] are accepted (default 11.58).
     pub lon_deg: f64,
-    /// Elevation above the WGS84 ellipsoid, m (default 0).
+    /// Elevation above the WGS84 ellipsoid, m, in [−12000, 100000] (default 0).
     pub elevation_m: f64,
 }
 
@@ -118,7 +120,9 @@ impl Default for ObserverSpec {
 pub struct TimeSpec {
     /// Civil UTC, RFC 3339 (offsets allowed) or `now` (default `now`).
     pub utc: String,
-    /// Time speed for animations: simulated seconds per real second (default 1).
+    /// Time speed for animations: simulated seconds per real second, in
+    /// [−1e9, 1e9] (about ±32 years per second; negative runs backwards)
+    /// (default 1).
     pub speed: f64,
 }
 
@@ -145,7 +149,7 @@ pub struct StarParams {
     pub glare: f64,
     /// Deterministic scintillation (twinkling) of the drawn flux (default false).
     pub scintillation: bool,
-    /// Seed of the scintillation pattern (default 0).
+    /// Seed of the scintillation pattern, any u64 (default 0).
     pub seed: u64,
 }
 
@@ -173,7 +177,9 @@ pub struct WorldSpec {
     pub ground: bool,
 }
 
-/// The complete scene.
+/// The complete scene. Every number has a documented range that
+/// [`Scene::validate`] checks; [`Scene::from_json`] names the field of any
+/// error by its path.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct Scene {
@@ -183,20 +189,22 @@ pub struct Scene {
     pub time: TimeSpec,
     /// Astronomy accuracy tier: `low`, `standard` (default) or `high`.
     pub precision: String,
-    /// The camera (projection, size, orientation).
+    /// The camera (projection, size, orientation; ranges in [`Camera`]).
     pub camera: Camera,
     /// Effects to simulate (default: every sky effect).
     pub effects: Vec<Effect>,
-    /// The atmosphere's physical parameters.
+    /// The atmosphere's physical parameters (ranges in [`AtmosphereParams`]).
     pub atmosphere: AtmosphereParams,
-    /// LUT sizes and scattering orders of the atmosphere model.
+    /// LUT sizes and scattering orders of the atmosphere model (ranges in
+    /// [`LutConfig`]).
     pub lut: LutConfig,
-    /// Exposure: `"auto"` (default) or an EV100 number.
+    /// Exposure: `"auto"` (default) or an EV100 number in [−30, 40].
     pub exposure: Exposure,
-    /// Drawn Sun size relative to the true one (default 1; the illuminance is kept).
+    /// Drawn Sun size relative to the true one, in [0.01, 100] (default 1;
+    /// the illuminance is kept).
     pub sun_scale: f64,
-    /// Drawn Moon size relative to the true one (default 1; the radiance is
-    /// kept, so the illuminance grows with its square).
+    /// Drawn Moon size relative to the true one, in [0.01, 100] (default 1;
+    /// the radiance is kept, so the illuminance grows with its square).
     pub moon_scale: f64,
     /// Night vision (mesopic/scotopic) in the camera stage (default true).
     pub night_vision: bool,
@@ -257,10 +265,37 @@ impl SceneError {
 }
 
 impl Scene {
-    /// Parses a scene from JSON; errors name the field (serde's message
-    /// carries the path, e.g. "unknown field `fov`").
+    /// Parses a scene from JSON. Every error names the field by its dotted
+    /// path ([`SceneError::field`], e.g. `observer.lat_deg`,
+    /// `effects[1]`; `scene` for the document itself) and says what was
+    /// expected and found in words ("expected a number, found a string").
+    /// A document that is not a JSON object is refused. Ranges are checked
+    /// by [`Scene::validate`].
     pub fn from_json(s: &str) -> Result<Scene, SceneError> {
-        serde_json::from_str(s).map_err(|e| SceneError::new("scene", e.to_string()))
+        if !s.trim_start().starts_with('{') {
+            let found = match serde_json::from_str::<serde_json::Value>(s) {
+                Ok(v) => kind_of(&v),
+                Err(e) => return Err(json_error("", &e)),
+            };
+            return Err(SceneError::new(
+                "scene",
+                format!("a scene must be a JSON object ({{ … }}), found {found}"),
+            ));
+        }
+        let de = &mut serde_json::Deserializer::from_str(s);
+        let scene: Scene =
+            serde_path_to_error::deserialize(&mut *de).map_err(|e| path_error(s, &e))?;
+        // Characters after the object.
+        de.end().map_err(|e| json_error("", &e))?;
+        // serde also fills a struct from a list, by position
+        // (`"observer": [48, 11]`): each group must be an object.
+        if let (Ok(given), Ok(default)) = (
+            serde_json::from_str::<serde_json::Value>(s),
+            serde_json::to_value(Scene::default()),
+        ) {
+            objects_where_objects(&given, &default, "")?;
+        }
+        Ok(scene)
     }
 
     /// The complete default scene as pretty JSON (`himmel scene-template`).
@@ -273,29 +308,27 @@ impl Scene {
         self.effects.contains(&e)
     }
 
-    /// Checks every value against its range, naming the field.
+    /// Checks every value against its range (documented on each field),
+    /// naming the field.
     pub fn validate(&self) -> Result<(), SceneError> {
         let o = &self.observer;
-        if !(o.lat_deg.is_finite() && (-90.0..=90.0).contains(&o.lat_deg)) {
-            return Err(SceneError::new(
-                "observer.lat_deg",
-                format!("{} is outside [-90, 90]", o.lat_deg),
-            ));
+        let t = &self.time;
+        let st = &self.stars;
+        for (f, v, lo, hi) in [
+            ("observer.lat_deg", o.lat_deg, -90.0, 90.0),
+            ("observer.lon_deg", o.lon_deg, -360.0, 360.0),
+            ("observer.elevation_m", o.elevation_m, -12_000.0, 100_000.0),
+            ("time.speed", t.speed, -1e9, 1e9),
+            ("sun_scale", self.sun_scale, 0.01, 100.0),
+            ("moon_scale", self.moon_scale, 0.01, 100.0),
+            ("stars.limit_mag", st.limit_mag, -2.0, 8.0),
+            ("stars.core_px", st.core_px, 0.3, 4.0),
+            ("stars.glare", st.glare, 0.0, 10.0),
+        ] {
+            check_range(f, v, lo, hi)?;
         }
-        if !(o.lon_deg.is_finite() && (-360.0..=360.0).contains(&o.lon_deg)) {
-            return Err(SceneError::new(
-                "observer.lon_deg",
-                format!("{} is outside [-180, 180]", o.lon_deg),
-            ));
-        }
-        if !(o.elevation_m.is_finite() && (-12_000.0..=100_000.0).contains(&o.elevation_m)) {
-            return Err(SceneError::new(
-                "observer.elevation_m",
-                format!("{} is outside [-12000, 100000] m", o.elevation_m),
-            ));
-        }
-        if !self.time.speed.is_finite() {
-            return Err(SceneError::new("time.speed", "must be a finite number"));
+        if let Exposure::Ev100(v) = self.exposure {
+            check_range("exposure", v, -30.0, 40.0)?;
         }
         if himmel_astro::Precision::from_name(&self.precision).is_none() {
             return Err(SceneError::new(
@@ -312,6 +345,11 @@ impl Scene {
         self.atmosphere
             .validate()
             .map_err(|e| SceneError::new(&e.field, e.expected))?;
+        self.validate_lut()
+    }
+
+    /// The LUT sizes, orders and forward peak ([`LutConfig`]).
+    fn validate_lut(&self) -> Result<(), SceneError> {
         let l = &self.lut;
         let sizes = [
             ("lut.transmittance_w", l.transmittance_w),
@@ -332,28 +370,176 @@ impl Scene {
         if l.orders > 1000 {
             return Err(SceneError::new(
                 "lut.orders",
-                "expected 0 (all orders) or 1..1000",
+                format!("{} is outside [0, 1000] (0 = all orders)", l.orders),
             ));
         }
-        for (f, v) in [
-            ("sun_scale", self.sun_scale),
-            ("moon_scale", self.moon_scale),
-        ] {
-            if !(v.is_finite() && (0.01..=100.0).contains(&v)) {
-                return Err(SceneError::new(f, format!("{v} is outside [0.01, 100]")));
-            }
-        }
-        let st = &self.stars;
-        for (f, v, lo, hi) in [
-            ("stars.limit_mag", st.limit_mag, -2.0, 8.0),
-            ("stars.core_px", st.core_px, 0.3, 4.0),
-            ("stars.glare", st.glare, 0.0, 10.0),
-        ] {
-            if !(v.is_finite() && (lo..=hi).contains(&v)) {
-                return Err(SceneError::new(f, format!("{v} is outside [{lo}, {hi}]")));
-            }
-        }
+        check_range("lut.forward_peak_deg", l.forward_peak_deg.into(), 0.0, 90.0)
+    }
+}
+
+/// A finite `v` in [lo, hi], or an error naming `field` and the range.
+fn check_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
+    } else {
+        Err(SceneError::new(
+            field,
+            format!("{} is outside [{}, {}]", show(v), show(lo), show(hi)),
+        ))
+    }
+}
+
+/// A deserialisation error of the document `text`, named by its path.
+fn path_error(text: &str, e: &serde_path_to_error::Error<serde_json::Error>) -> SceneError {
+    use serde_path_to_error::Segment;
+    // A syntax error has no meaningful last segment ("?"): name the group.
+    let path = e.path().to_string();
+    let path = path.trim_end_matches('?').trim_end_matches('.');
+    let path = if path == "." { "" } else { path };
+    let mut err = json_error(path, e.inner());
+    // serde_json says only "expected value" when an enum (a name such as
+    // `fisheye`) is given another type in a well-formed document.
+    if e.inner().to_string().starts_with("expected value at") {
+        if let Ok(doc) = serde_json::from_str::<serde_json::Value>(text) {
+            let found = e.path().iter().try_fold(&doc, |v, seg| match seg {
+                Segment::Map { key } => v.get(key),
+                Segment::Seq { index } => v.get(index),
+                _ => None,
+            });
+            if let Some(found) = found {
+                err.message = format!(
+                    "expected a name (a string), found {} (line {}, column {})",
+                    kind_of(found),
+                    e.inner().line(),
+                    e.inner().column()
+                );
+            }
+        }
+    }
+    err
+}
+
+/// A JSON error at `path` ("" for the document) in readable words.
+fn json_error(path: &str, e: &serde_json::Error) -> SceneError {
+    let text = e.to_string();
+    let at = format!(" at line {} column {}", e.line(), e.column());
+    let (text, place) = match text.strip_suffix(&at) {
+        Some(t) if e.line() > 0 => (t, format!(" (line {}, column {})", e.line(), e.column())),
+        _ => (text.as_str(), String::new()),
+    };
+    let field = if path.is_empty() { "scene" } else { path };
+    SceneError::new(field, format!("{}{place}", readable(text)))
+}
+
+/// Checks that every group of `given` that is an object in `default` (the
+/// scene's structure) is an object too, naming the first that is not.
+fn objects_where_objects(
+    given: &serde_json::Value,
+    default: &serde_json::Value,
+    path: &str,
+) -> Result<(), SceneError> {
+    let (Some(given), Some(default)) = (given.as_object(), default.as_object()) else {
+        return Ok(());
+    };
+    for (k, d) in default.iter().filter(|(_, d)| d.is_object()) {
+        let Some(g) = given.get(k) else { continue };
+        let p = if path.is_empty() {
+            k.clone()
+        } else {
+            format!("{path}.{k}")
+        };
+        if !g.is_object() {
+            return Err(SceneError::new(
+                &p,
+                format!("expected an object ({{ … }}), found {}", kind_of(g)),
+            ));
+        }
+        objects_where_objects(g, d, &p)?;
+    }
+    Ok(())
+}
+
+/// What kind of JSON value `v` is, in words.
+fn kind_of(v: &serde_json::Value) -> String {
+    use serde_json::Value;
+    match v {
+        Value::Null => "null".into(),
+        Value::Bool(b) => format!("a boolean ({b})"),
+        Value::Number(n) => format!("the number {n}"),
+        Value::String(s) => format!("a string ({s:?})"),
+        Value::Array(_) => "a list".into(),
+        Value::Object(_) => "an object".into(),
+    }
+}
+
+/// serde's "invalid type: X, expected Y" and "invalid value: X, expected
+/// Y" as "expected Y', found X'" in words (other messages unchanged).
+fn readable(text: &str) -> String {
+    let Some(rest) = text
+        .strip_prefix("invalid type: ")
+        .or_else(|| text.strip_prefix("invalid value: "))
+    else {
+        return match text {
+            "number out of range" => {
+                "number out of range (beyond the largest 64-bit floating-point number)".into()
+            }
+            _ => text.to_string(),
+        };
+    };
+    // The found value may be a string holding ", expected ": split at the last.
+    let Some((found, expected)) = rest.rsplit_once(", expected ") else {
+        return text.to_string();
+    };
+    format!(
+        "expected {}, found {}",
+        expected_words(expected),
+        found_words(found)
+    )
+}
+
+/// serde's name of what a field's type accepts, in words.
+fn expected_words(expected: &str) -> String {
+    let int = |max: u64| format!("a whole number in [0, {max}]");
+    match expected {
+        "f64" | "f32" => "a number".into(),
+        "u8" => int(u8::MAX.into()),
+        "u16" => int(u16::MAX.into()),
+        "u32" => int(u32::MAX.into()),
+        "u64" => int(u64::MAX),
+        "usize" => int(usize::MAX as u64),
+        "a boolean" => "true or false".into(),
+        "a sequence" => "a list ([ … ])".into(),
+        e if e.starts_with("struct ") => "an object ({ … })".into(),
+        e => e.to_string(),
+    }
+}
+
+/// serde_json's description of a value that was found, in words.
+fn found_words(found: &str) -> String {
+    let quoted = |prefix: &str| {
+        found
+            .strip_prefix(prefix)
+            .and_then(|v| v.strip_prefix('`'))
+            .and_then(|v| v.strip_suffix('`'))
+            .map(str::to_string)
+    };
+    if let Some(v) = quoted("integer ") {
+        return format!("the number {v}");
+    }
+    if let Some(v) = quoted("floating point ") {
+        return format!("the number {}", v.replace("e+", "e"));
+    }
+    if let Some(v) = quoted("boolean ") {
+        return format!("a boolean ({v})");
+    }
+    if let Some(v) = found.strip_prefix("string ") {
+        return format!("a string ({v})");
+    }
+    match found {
+        "sequence" => "a list".into(),
+        "map" => "an object".into(),
+        "null" | "unit value" => "null".into(),
+        f => f.to_string(),
     }
 }
 
@@ -383,10 +569,64 @@ mod tests {
     fn unknown_fields_and_wrong_types_name_the_field() {
         let e = Scene::from_json(r#"{"camera": {"fvo": 3}}"#).unwrap_err();
         assert!(e.message.contains("fvo"), "{e}");
+        assert_eq!(e.field, "camera.fvo");
         let e = Scene::from_json(r#"{"camera": {"width": "wide"}}"#).unwrap_err();
-        assert!(e.to_string().contains("invalid type"), "{e}");
+        assert_eq!(e.field, "camera.width");
+        assert!(
+            e.message
+                .starts_with("expected a whole number in [0, 4294967295], found a string"),
+            "{e}"
+        );
+        let e = Scene::from_json(r#"{"observer": {"lat_deg": "not-a-number"}}"#).unwrap_err();
+        assert_eq!(
+            e.to_string(),
+            r#"observer.lat_deg: expected a number, found a string ("not-a-number") (line 1, column 39)"#
+        );
         let e = Scene::from_json(r#"{"effects": ["sun", "rainbow"]}"#).unwrap_err();
         assert!(e.message.contains("rainbow"), "{e}");
+        assert_eq!(e.field, "effects[1]");
+    }
+
+    #[test]
+    fn documents_that_are_not_objects_are_refused() {
+        for (text, found) in [
+            ("[]", "a list"),
+            ("3", "the number 3"),
+            (r#""x""#, "a string"),
+            ("null", "null"),
+            ("true", "a boolean"),
+        ] {
+            let e = Scene::from_json(text).unwrap_err();
+            assert_eq!(e.field, "scene", "{text}: {e}");
+            assert!(
+                e.message.contains("a scene must be a JSON object") && e.message.contains(found),
+                "{text}: {e}"
+            );
+        }
+        for text in ["", "{", "{} {}", "{\"camera\": {\"width\": 1e999}}"] {
+            assert!(Scene::from_json(text).is_err(), "{text:?}");
+        }
+    }
+
+    #[test]
+    fn overflow_and_negative_sizes_name_the_field() {
+        for (text, field) in [
+            (r#"{"observer": {"lat_deg": 1e999}}"#, "observer.lat_deg"),
+            (r#"{"observer": {"lat_deg": -1e999}}"#, "observer.lat_deg"),
+            (r#"{"camera": {"width": -1}}"#, "camera.width"),
+            (r#"{"camera": {"height": 4294967296}}"#, "camera.height"),
+            (r#"{"lut": {"sky_view_w": -1}}"#, "lut.sky_view_w"),
+            (r#"{"lut": {"orders": 1e999}}"#, "lut.orders"),
+            (r#"{"stars": {"seed": 18446744073709551616}}"#, "stars.seed"),
+        ] {
+            let e = Scene::from_json(text).unwrap_err();
+            assert_eq!(e.field, field, "{text}: {e}");
+        }
+        // f32 overflow becomes infinite, which the range check refuses.
+        let s = Scene::from_json(r#"{"lut": {"forward_peak_deg": 1e39}}"#).unwrap();
+        assert_eq!(s.validate().unwrap_err().field, "lut.forward_peak_deg");
+        let s = Scene::from_json(r#"{"lut": {"forward_peak_deg": -50}}"#).unwrap();
+        assert_eq!(s.validate().unwrap_err().field, "lut.forward_peak_deg");
     }
 
     #[test]

@@ -12,3 +12,14 @@ pub type Lux = f64;
 pub type Steradians = f64;
 /// Extinction or scattering coefficient, km⁻¹.
 pub type PerKm = f32;
+
+/// A number for an error message: plain notation, or exponent notation
+/// for very large or very small magnitudes (`1e300`, not 301 digits).
+pub fn show(v: f64) -> String {
+    let a = v.abs();
+    if v.is_finite() && a != 0.0 && !(1e-4..1e15).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}

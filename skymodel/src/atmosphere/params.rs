@@ -17,38 +17,43 @@
 
 use serde::{Deserialize, Serialize};
 
-/// Physical parameters of the atmosphere (documented defaults).
+use crate::units::show;
+
+/// Physical parameters of the atmosphere (documented defaults and ranges,
+/// checked by [`AtmosphereParams::validate`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct AtmosphereParams {
-    /// Radius of the ground sphere, km (default 6360).
+    /// Radius of the ground sphere, km, in [100, 100000] (default 6360).
     pub ground_radius_km: f64,
-    /// Thickness of the atmosphere, km (default 100).
+    /// Thickness of the atmosphere, km, in [1, 1000] (default 100).
     pub thickness_km: f64,
     /// Rayleigh coefficient at 1 µm, m⁻¹ µm⁴: β_R(λ) = k / λ⁴
-    /// (default 1.24062e-6, Bruneton 2017 demo; 13.3e-6 m⁻¹ at 550 nm).
+    /// in [0, 1e-3] (default 1.24062e-6, Bruneton 2017 demo; 13.3e-6 m⁻¹ at 550 nm).
     pub rayleigh_k: f64,
-    /// Rayleigh (air) density scale height, km (default 8).
+    /// Rayleigh (air) density scale height, km, in [0.1, 100] (default 8).
     pub rayleigh_scale_height_km: f64,
-    /// Aerosol scattering coefficient at sea level and 550 nm, m⁻¹ (default 7.992e-5).
+    /// Aerosol scattering coefficient at sea level and 550 nm, m⁻¹, in
+    /// [0, 1e-2] (default 7.992e-5).
     pub aerosol_scattering: f64,
-    /// Multiplier on the aerosol density (1 = default; 0 = pure Rayleigh).
+    /// Multiplier on the aerosol density, in [0, 1000] (1 = default; 0 = pure Rayleigh).
     pub aerosol_density: f64,
-    /// Aerosol single-scattering albedo (default 0.9).
+    /// Aerosol single-scattering albedo, in [0, 1] (default 0.9).
     pub aerosol_albedo: f64,
-    /// Aerosol Ångström exponent α: β_M(λ) ∝ (λ / 550 nm)^(−α) (default 1.3).
+    /// Aerosol Ångström exponent α: β_M(λ) ∝ (λ / 550 nm)^(−α), in [−4, 4] (default 1.3).
     pub aerosol_angstrom: f64,
-    /// Aerosol density scale height, km (default 1.2).
+    /// Aerosol density scale height, km, in [0.01, 100] (default 1.2).
     pub aerosol_scale_height_km: f64,
-    /// Asymmetry g of the Cornette–Shanks aerosol phase function (default 0.8).
+    /// Asymmetry g of the Cornette–Shanks aerosol phase function, in
+    /// [−0.99, 0.99] (default 0.8).
     pub aerosol_g: f64,
-    /// Ozone column, Dobson units (default 300).
+    /// Ozone column, Dobson units, in [0, 2000] (default 300).
     pub ozone_du: f64,
-    /// Altitude of the ozone density peak, km (default 25).
+    /// Altitude of the ozone density peak, km, in [0, `thickness_km`] (default 25).
     pub ozone_peak_km: f64,
-    /// Half-width of the ozone tent profile, km (default 15).
+    /// Half-width of the ozone tent profile, km, in [0.1, `thickness_km`] (default 15).
     pub ozone_half_width_km: f64,
-    /// Lambertian ground albedo (default 0.2).
+    /// Lambertian ground albedo, in [0, 1] (default 0.2).
     pub ground_albedo: f64,
 }
 
@@ -96,7 +101,7 @@ fn range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), ParamError> {
     } else {
         Err(ParamError {
             field: format!("atmosphere.{field}"),
-            expected: format!("a number in [{lo}, {hi}], got {v}"),
+            expected: format!("a number in [{}, {}], got {}", show(lo), show(hi), show(v)),
         })
     }
 }
@@ -141,30 +146,35 @@ impl AtmosphereParams {
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
 pub struct LutConfig {
-    /// Transmittance LUT width (view zenith, Bruneton 2017 mapping), default 256.
+    /// Transmittance LUT width (view zenith, Bruneton 2017 mapping), in
+    /// [2, 1024] like every size and step count here, default 256.
     pub transmittance_w: usize,
-    /// Transmittance LUT height (altitude), default 64.
+    /// Transmittance LUT height (altitude), in [2, 1024], default 64.
     pub transmittance_h: usize,
-    /// Ray-march steps per transmittance texel, default 40.
+    /// Ray-march steps per transmittance texel, in [2, 1024], default 40.
     pub transmittance_steps: usize,
-    /// Multiple-scattering LUT size (Sun zenith × altitude), default 48.
+    /// Multiple-scattering LUT size (Sun zenith × altitude), in [2, 1024], default 48.
     pub multiscatter_n: usize,
-    /// Directions per multiple-scattering texel (a square number), default 64.
+    /// Directions per multiple-scattering texel (a square number), in
+    /// [2, 1024], default 64.
     pub multiscatter_dirs: usize,
-    /// Ray-march steps per multiple-scattering direction, default 20.
+    /// Ray-march steps per multiple-scattering direction, in [2, 1024], default 20.
     pub multiscatter_steps: usize,
-    /// Sky-view LUT width (azimuth from the Sun, 0–180°), default 192.
+    /// Sky-view LUT width (azimuth from the Sun, 0–180°), in [2, 1024], default 192.
     pub sky_view_w: usize,
-    /// Sky-view LUT height (elevation 0–90°, square-root mapping), default 108.
+    /// Sky-view LUT height (elevation 0–90°, square-root mapping), in
+    /// [2, 1024], default 108.
     pub sky_view_h: usize,
-    /// Ray-march steps per sky-view texel, default 30.
+    /// Ray-march steps per sky-view texel, in [2, 1024], default 30.
     pub sky_view_steps: usize,
     /// Scattering orders: 1 = single scattering only, n ≥ 2 = the first
-    /// n orders of Hillaire's geometric series, 0 = all orders (default).
+    /// n orders of Hillaire's geometric series, 0 = all orders (default);
+    /// in [0, 1000].
     pub orders: u32,
     /// Half-angle of the aerosol forward peak, degrees, that the LUT path
     /// treats as unscattered light (δ-scaling; see
-    /// `lut::forward_scattering`); 0 turns it off (default 15).
+    /// `lut::forward_scattering`), in [0, 90] (a forward peak lies in the
+    /// forward hemisphere); 0 turns it off (default 15).
     pub forward_peak_deg: f32,
 }
 

@@ -257,8 +257,8 @@ fn checksum(key: &str, payload: &[u8]) -> u32 {
     h.finalize()
 }
 
-/// Writes the LUTs into `dir` (created if needed), through a temporary
-/// file renamed into place.
+/// Writes the LUTs into `dir` (created if needed), through a synced
+/// temporary file renamed into place ([`crate::file::write_file`]).
 #[cfg(feature = "std")]
 pub fn store(dir: &Path, luts: &AtmosphereLuts) -> std::io::Result<()> {
     std::fs::create_dir_all(dir)?;
@@ -281,9 +281,7 @@ pub fn store(dir: &Path, luts: &AtmosphereLuts) -> std::io::Result<()> {
     out.extend_from_slice(&sum.to_le_bytes());
     out.extend_from_slice(&payload);
     let p = cache_path(dir, &luts.params, &luts.config);
-    let tmp = p.with_extension(format!("tmp{}", std::process::id()));
-    std::fs::write(&tmp, out)?;
-    std::fs::rename(tmp, p)
+    crate::file::write_bytes(&p, &out).map_err(std::io::Error::other)
 }
 
 /// Reads the LUTs of `params`/`config` from `dir`: `None` when the file is
