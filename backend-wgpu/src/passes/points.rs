@@ -194,12 +194,10 @@ impl PointsPass {
         layout: &FrameLayout,
     ) -> (wgpu::TextureView, wgpu::BindGroup) {
         let (w, rows) = (layout.width, layout.band_rows);
-        let fits = self
-            .target
-            .as_ref()
-            .is_some_and(|t| t.width() >= w && t.height() >= rows && t.format() == self.format);
-        if !fits {
-            self.target = Some(gpu.device.create_texture(&wgpu::TextureDescriptor {
+        let format = self.format;
+        let target = match self.target.take() {
+            Some(t) if t.width() >= w && t.height() >= rows && t.format() == format => t,
+            _ => gpu.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("point-source quads"),
                 size: wgpu::Extent3d {
                     width: w,
@@ -209,17 +207,13 @@ impl PointsPass {
                 mip_level_count: 1,
                 sample_count: 1,
                 dimension: wgpu::TextureDimension::D2,
-                format: self.format,
+                format,
                 usage: wgpu::TextureUsages::RENDER_ATTACHMENT
                     | wgpu::TextureUsages::TEXTURE_BINDING,
                 view_formats: &[],
-            }));
-        }
-        let view = self
-            .target
-            .as_ref()
-            .map(|t| t.create_view(&Default::default()))
-            .unwrap_or_else(|| unreachable!("the quad target was just made"));
+            }),
+        };
+        let view = self.target.insert(target).create_view(&Default::default());
         let group = bind_group(
             &gpu.device,
             "quad target",
