@@ -18,7 +18,7 @@ use himmel_skymodel::renderer::RenderError;
 use himmel_skymodel::spectrum::{Spectrum, BANDS};
 use wgpu::util::DeviceExt;
 
-use crate::gpu::{bind_group, storage_entry, uniform_entry, Gpu};
+use crate::gpu::{bind_group, device_error, storage_entry, uniform_entry, Gpu};
 
 /// The WGSL source of the LUT passes: `luts.wgsl` followed by the medium
 /// functions it shares with the sky-view passes (`medium.wgsl`).
@@ -321,10 +321,6 @@ pub fn dispatch(
     Ok(bufs)
 }
 
-fn wgpu_err(e: impl std::fmt::Display) -> RenderError {
-    RenderError::Device(e.to_string())
-}
-
 /// Waits for the LUT passes, copies the three buffers back and assembles
 /// them as [`AtmosphereLuts`] (`AtmosphereLuts::from_parts`) for the
 /// CPU-side users of the LUTs (the Sun-disk table, the stars' extinction,
@@ -360,10 +356,10 @@ pub fn read_back(
     });
     device
         .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(wgpu_err)?;
-    rx.recv().map_err(wgpu_err)?.map_err(wgpu_err)?;
+        .map_err(device_error)?;
+    rx.recv().map_err(device_error)?.map_err(device_error)?;
     let spectra: Vec<Spectrum> = {
-        let bytes = slice.get_mapped_range().map_err(wgpu_err)?;
+        let bytes = slice.get_mapped_range().map_err(device_error)?;
         let groups: &[[f32; 4]] = bytemuck::cast_slice(&bytes);
         groups
             .chunks_exact(3)
@@ -399,7 +395,7 @@ pub fn compute(
     let bufs = dispatch(device, queue, p, params, config)?;
     let luts = read_back(device, queue, &bufs, params, config);
     if let Some(e) = pollster::block_on(scope.pop()) {
-        return Err(RenderError::Device(e.to_string()));
+        return Err(device_error(e));
     }
     Ok((bufs, luts?))
 }
