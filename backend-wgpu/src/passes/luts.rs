@@ -54,7 +54,7 @@ impl LutSource {
     /// Mesa's lavapipe), which runs on the same cores: there the shaders
     /// gain little per computation while the CPU precompute's disk cache
     /// serves every later process in about a millisecond (figures: README,
-    /// `benches/render.rs` group `precompute`).
+    /// `tests/benches/wgpu_render.rs` group `precompute`).
     pub fn default_for(device_type: wgpu::DeviceType) -> Self {
         match device_type {
             wgpu::DeviceType::Cpu => LutSource::Cpu,

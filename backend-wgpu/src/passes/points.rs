@@ -364,7 +364,7 @@ impl PointMethod {
 
     /// The default for an adapter of this type: tiles on a software
     /// adapter (`DeviceType::Cpu`, e.g. lavapipe), quads on every other.
-    /// On lavapipe the two tie in frame time (`benches/render.rs`, group
+    /// On lavapipe the two tie in frame time (`tests/benches/wgpu_render.rs`, group
     /// `night`), but its timestamp queries misattribute the compute passes'
     /// time once a render pass is in the submission (the `--stats` per-pass
     /// times would be wrong); on hardware GPUs the rasteriser touches only

@@ -24,8 +24,8 @@ use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
 use himmel_wgpu::luts::{self, LutPipelines};
 use himmel_wgpu::LutSource;
 
-mod common;
-use common::{assert_parity, gpu, percentile};
+mod wgpu_common;
+use wgpu_common::{assert_parity, gpu, percentile};
 
 /// κ of the module documentation: the relative aerosol-density change of
 /// one ulp of r² at the ground.

@@ -12,8 +12,8 @@ use himmel_skymodel::frame::pixels::direction_buffers_built;
 use himmel_skymodel::frame::sky_light::cpu_sky_views_computed;
 use himmel_skymodel::{Effect, Exposure, Projection, Scene, SkyRenderer, SkyState};
 
-mod common;
-use common::gpu;
+mod wgpu_common;
+use wgpu_common::gpu;
 
 fn moonlit_night() -> (Scene, SkyState) {
     let mut s = Scene::default();

@@ -10,6 +10,11 @@ use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::HdrImage;
 use himmel_wgpu::WgpuRenderer;
 
+use glam::DVec3;
+use himmel_cpu::CpuRenderer;
+use himmel_skymodel::atmosphere::LutConfig;
+use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
+
 pub fn gpu() -> std::sync::MutexGuard<'static, WgpuRenderer> {
     static R: OnceLock<Mutex<WgpuRenderer>> = OnceLock::new();
     R.get_or_init(|| Mutex::new(WgpuRenderer::new(None).expect("a wgpu adapter (lavapipe in CI)")))
@@ -119,4 +124,102 @@ pub fn assert_parity(label: &str, c: &HdrImage, g: &HdrImage) -> (f64, f64, f64)
     assert!(p99 <= 0.10, "{label}: p99 {p99}");
     assert!(db >= 35.0, "{label}: PSNR {db} dB");
     (med, p99, db)
+}
+
+pub fn scene(utc: &str, p: Projection, w: u32, h: u32) -> Scene {
+    let mut s = Scene::default();
+    s.time.utc = utc.into();
+    s.observer.lat_deg = 48.14;
+    s.observer.lon_deg = 11.58;
+    s.effects = vec![Effect::Atmosphere, Effect::Sun];
+    s.camera.projection = p;
+    s.camera.width = w;
+    s.camera.height = h;
+    s.lut = LutConfig::small();
+    s
+}
+
+/// Renders `s` through both backends (the wgpu one with its sky view on
+/// the GPU and, uploaded, from the CPU), checks the parity figures and
+/// returns the CPU image and the GPU-sky-view image.
+pub fn parity(name: &str, s: &Scene) -> (HdrImage, HdrImage) {
+    let state = SkyState::at(s).unwrap();
+    let cpu = CpuRenderer::new(None).render(s, &state).unwrap();
+    let c = cpu.image;
+    let mut first = None;
+    for on_gpu in [false, true] {
+        let gpu_out = {
+            let mut r = gpu();
+            r.set_sky_view_on_gpu(on_gpu);
+            let out = r.render(s, &state);
+            r.set_sky_view_on_gpu(true);
+            out.unwrap()
+        };
+        let g = gpu_out.image;
+        let mode = if on_gpu {
+            "GPU sky view"
+        } else {
+            "CPU sky view"
+        };
+        let label = format!(
+            "{name} ({mode}), Sun alt {:.2}°",
+            state.sun.alt_refracted_deg
+        );
+        assert_parity(&label, &c, &g);
+        // The passes that ran have times.
+        // (`moon-eclipse` is part of the Moon pass and has no time of its own.)
+        for p in gpu_out
+            .passes
+            .iter()
+            .filter(|p| p.ran && p.name != "moon-eclipse")
+        {
+            assert!(p.ms.is_some_and(|t| t >= 0.0), "{name}: {}", p.name);
+        }
+        first = Some(g);
+    }
+    (c, first.unwrap())
+}
+
+/// Σ luminance over the pixels within `r` px of the Sun's place.
+pub fn sun_sum(img: &HdrImage, s: &Scene, state: &SkyState, r: f64) -> f64 {
+    let (sx, sy) = s
+        .camera
+        .dir_to_pixel(DVec3::from_array(state.sun.enu))
+        .unwrap();
+    let mut sum = 0.0;
+    for (i, p) in img.pixels.iter().enumerate() {
+        let (x, y) = ((i % img.width) as f64 + 0.5, (i / img.width) as f64 + 0.5);
+        if (x - sx).hypot(y - sy) <= r {
+            sum += luminance(*p) as f64;
+        }
+    }
+    sum
+}
+
+/// The 200 brightest star peaks of the CPU image (at least 50) are peaks
+/// of the GPU image at the same pixel (0 px offset; the acceptance allows
+/// 0.5 px).
+pub fn same_peaks(name: &str, c: &HdrImage, g: &HdrImage) {
+    same_peaks_above(name, c, g, 20.0, 50);
+}
+
+/// [`same_peaks`] for the peaks at least `k` × the median luminance, of
+/// which there must be `min`.
+pub fn same_peaks_above(name: &str, c: &HdrImage, g: &HdrImage, k: f32, min: usize) {
+    let pc = peaks(c, k);
+    let pg = peaks(g, k);
+    assert!(pc.len() >= min, "{name}: {} star peaks", pc.len());
+    let mut same = 0;
+    for &(i, j, _) in pc.iter().take(200) {
+        if pg.iter().any(|q| q.0 == i && q.1 == j) {
+            same += 1;
+        }
+    }
+    let n = pc.len().min(200);
+    eprintln!(
+        "{name}: {} CPU peaks, {} GPU peaks, {same}/{n} brightest at the same pixel",
+        pc.len(),
+        pg.len()
+    );
+    assert_eq!(same, n, "{name}");
 }

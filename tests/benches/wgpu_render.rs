@@ -35,7 +35,7 @@
 //! * `disk_cache_load` — `himmel_skymodel::frame::luts::load` of the same LUTs (what
 //!   `LutSource::Cpu` pays on a disk-cache hit, before the upload).
 //!
-//! `cargo bench -p himmel-wgpu --bench render` (on lavapipe without a GPU).
+//! `cargo bench -p himmel-tests --bench wgpu_render` (on lavapipe without a GPU).
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use himmel_cpu::CpuRenderer;

@@ -19,8 +19,8 @@ use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
 use himmel_wgpu::{PointMethod, WgpuRenderer};
 
-mod common;
-use common::{assert_parity, gpu, peaks, percentile, rel_diffs};
+mod wgpu_common;
+use wgpu_common::{assert_parity, gpu, peaks, percentile, rel_diffs};
 
 fn scene(utc: &str, p: Projection, w: u32, h: u32) -> Scene {
     let mut s = Scene::default();
