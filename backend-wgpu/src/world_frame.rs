@@ -218,7 +218,15 @@ impl WgpuRenderer {
             height: face,
             ..Camera::default()
         };
-        let frame = self.render_frame(&s, state)?;
+        // The plan follows the state's passes: leave out the Sun and Moon
+        // disks (directional lights) and whatever is not sky.
+        let mut st = state.clone();
+        for p in st.passes.iter_mut() {
+            if !s.effects.contains(&p.effect) {
+                p.skip(himmel_skymodel::SkipReason::NotRequested);
+            }
+        }
+        let frame = self.render_frame(&s, &st)?;
         let cube = self.read_back(&frame)?;
         Ok(EnvLight::from_cube(&cube, dirs))
     }

@@ -515,7 +515,8 @@ impl ShadeTables {
                 v[..4].copy_from_slice(&[c.dir.x, c.dir.y, c.dir.z, texel_m]);
                 for ch in 0..3 {
                     let m = c.moment[ch];
-                    v[4 + 4 * ch..8 + 4 * ch].copy_from_slice(&[m.x, m.y, m.z, 0.0]);
+                    let w = if ch == 0 { c.solid_angle } else { 0.0 };
+                    v[4 + 4 * ch..8 + 4 * ch].copy_from_slice(&[m.x, m.y, m.z, w]);
                 }
                 v
             })

@@ -60,6 +60,7 @@ struct MaterialGpu {
 struct SkyCell {
     // xyz: direction (world); w: its visibility map's texel, m.
     dir: vec4<f32>,
+    // xyz: ∫ L ω dω of the red channel; w: the cell's solid angle, sr.
     r: vec4<f32>,
     g: vec4<f32>,
     b: vec4<f32>,
@@ -121,7 +122,7 @@ fn disk(i: u32, n: u32, rot: f32) -> vec2<f32> {
 }
 
 // Shadow of a directional light (cascades first..first+count) at p.
-fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, view_depth: f32, tan_r: f32, px: vec2<u32>) -> f32 {
+fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, view_depth: f32, tan_r: f32, px: vec2<u32>) -> f32 {
     var c = 0u;
     loop {
         if c + 1u >= count || view_depth <= u.cascade_info[first + c].z {
@@ -141,6 +142,12 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, view_depth: f32, t
     }
     let size = vec2<f32>(textureDimensions(shadows));
     let z = s.z - (1.0 * texel) / depth_m;
+    // The receiver's own plane tilts away in the map: at a distance x (m)
+    // across the map it lies x·tan(n, l) deeper or shallower. Lookups x
+    // away are biased by that much, so a wide filter does not find the
+    // receiver itself as its blocker.
+    let nl = max(dot(n, ld), 0.05);
+    let slope = sqrt(max(1.0 - nl * nl, 0.0)) / nl / depth_m;
     let mode = u.counts.w;
     if mode == 0u {
         let t = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
@@ -150,8 +157,9 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, view_depth: f32, t
         var sum = 0.0;
         for (var dy = -1; dy <= 1; dy++) {
             for (var dx = -1; dx <= 1; dx++) {
-                let o = vec2<f32>(f32(dx), f32(dy)) / size;
-                sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z);
+                let q2 = vec2<f32>(f32(dx), f32(dy));
+                let o = q2 / size;
+                sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z - length(q2) * texel * slope);
             }
         }
         return sum / 9.0;
@@ -164,10 +172,11 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, view_depth: f32, t
     var blockers = 0.0;
     var zb = 0.0;
     for (var i = 0u; i < 16u; i++) {
-        let o = disk(i, 16u, rot) * search / size;
+        let q2 = disk(i, 16u, rot) * search;
+        let o = q2 / size;
         let t = vec2<i32>(clamp((uv + o) * size, vec2<f32>(0.0), size - 1.0));
         let d = textureLoad(shadows, t, i32(layer), 0);
-        if d < z {
+        if d < z - length(q2) * texel * slope {
             blockers += 1.0;
             zb += d;
         }
@@ -181,8 +190,9 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, view_depth: f32, t
     var sum = 0.0;
     let taps = 32u;
     for (var i = 0u; i < taps; i++) {
-        let o = disk(i, taps, rot) * radius / size;
-        sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z);
+        let q2 = disk(i, taps, rot) * radius;
+        let o = q2 / size;
+        sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z - length(q2) * texel * slope);
     }
     return sum / f32(taps);
 }
@@ -300,7 +310,7 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
         if any(f > vec3<f32>(0.0)) {
             var vis = 1.0;
             if u.counts.y > 0u {
-                vis = shadow(0u, u.counts.y, p, s.n, view_depth, u.sun_rgb.w, gid.xy);
+                vis = shadow(0u, u.counts.y, p, s.n, ld, view_depth, u.sun_rgb.w, gid.xy);
             }
             l += f * e * vis;
         }
@@ -315,29 +325,37 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
         if any(f > vec3<f32>(0.0)) {
             var vis = 1.0;
             if u.counts.z > 0u {
-                vis = shadow(u.flags.y, u.counts.z, p, s.n, view_depth, u.moon_rgb.w, gid.xy);
+                vis = shadow(u.flags.y, u.counts.z, p, s.n, ld, view_depth, u.moon_rgb.w, gid.xy);
             }
             l += f * e * vis;
         }
     }
-    // The sky.
+    // The sky: every cell's first moment, seen through its visibility map.
+    var open = 1.0;
     if u.flags.x == 1u {
         var e = vec3<f32>(0.0);
         let r = reflect(ray, s.n);
         var best = -2.0;
         var spec_vis = 1.0;
+        var open_sum = 0.0;
+        var open_all = 0.0;
         for (var k = 0u; k < u.counts.x; k++) {
             let c = cells[k];
             let proj = vec3<f32>(dot(s.n, c.r.xyz), dot(s.n, c.g.xyz), dot(s.n, c.b.xyz));
+            let vis = cell_visibility(k, p, s.n);
+            e += max(proj, vec3<f32>(0.0)) * vis;
             let near_r = dot(r, c.dir.xyz);
-            if any(proj > vec3<f32>(0.0)) || near_r > best {
-                let vis = cell_visibility(k, p, s.n);
-                e += max(proj, vec3<f32>(0.0)) * vis;
-                if near_r > best {
-                    best = near_r;
-                    spec_vis = vis;
-                }
+            if near_r > best {
+                best = near_r;
+                spec_vis = vis;
             }
+            if c.dir.y > 0.0 {
+                open_sum += vis * c.r.w;
+                open_all += c.r.w;
+            }
+        }
+        if open_all > 0.0 {
+            open = open_sum / open_all;
         }
         var sky_t = 1.0;
         if fog_on {
@@ -366,7 +384,10 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
             (f32(gid.y) + 0.5) / f32(h),
             (sqrt(clamp(dist / u.scales.z, 0.0, 1.0)) * (u.scales.w - 1.0) + 0.5) / u.scales.w,
         );
-        let ins = textureSampleLevel(air_in, lin, uvw, 0.0).rgb * u.scales.y;
+        // The air between the eye and a surface the world closes off from
+        // the sky (a room) is not lit by it: its in-scattering is scaled by
+        // the surface's open fraction of the sky (an approximation).
+        let ins = textureSampleLevel(air_in, lin, uvw, 0.0).rgb * u.scales.y * open;
         let tr = textureSampleLevel(air_t, lin, uvw, 0.0).rgb;
         l = l * tr + ins;
     }
