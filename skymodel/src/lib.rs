@@ -52,6 +52,7 @@ pub mod projection;
 pub mod refraction;
 pub mod renderer;
 pub mod scene;
+pub mod scene_error;
 pub mod spectrum;
 pub mod stars;
 pub mod state;

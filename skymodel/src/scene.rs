@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
 use crate::projection::Camera;
+pub use crate::scene_error::SceneError;
 use crate::units::show;
 pub use crate::world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};
 
@@ -283,32 +284,6 @@ impl Default for Scene {
             world: None,
             fog: None,
             lighting: LightingSpec::default(),
-        }
-    }
-}
-
-/// An invalid scene, naming the field.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SceneError {
-    /// The field or flag-like path (`observer.lat_deg`, `camera.fov_deg`, …).
-    pub field: String,
-    /// What is wrong and what is accepted.
-    pub message: String,
-}
-
-impl std::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.field, self.message)
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-impl SceneError {
-    fn new(field: &str, message: impl Into<String>) -> Self {
-        SceneError {
-            field: field.into(),
-            message: message.into(),
         }
     }
 }
