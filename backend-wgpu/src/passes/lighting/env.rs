@@ -417,14 +417,15 @@ mod tests {
     }
 
     /// The BRDF table's A + B is the directional albedo of GGX with white
-    /// F0: ≤ 1, near 1 for smooth surfaces seen head-on.
+    /// F0: ≤ 1 (to the quadrature), near 1 for smooth surfaces seen head-on.
     #[test]
     fn brdf_table_is_energy_bounded() {
         let t = brdf_lut();
         let n = BRDF_LUT_SIZE;
         for v in &t {
+            // ≤ 1 to the quadrature's 256 samples.
             assert!(
-                v[0] >= 0.0 && v[1] >= 0.0 && v[0] + v[1] <= 1.0 + 1e-3,
+                v[0] >= 0.0 && v[1] >= 0.0 && v[0] + v[1] <= 1.0 + 5e-3,
                 "{v:?}"
             );
         }
