@@ -417,8 +417,10 @@ def himmel_env(himmel, case, work):
         cmd = [himmel, "render", "--time", case["time"], f"--lat={case['lat']}",
                f"--lon={case['lon']}", f"--elevation={case.get('elevation_m', 0)}",
                "--projection", "equirect", "--effects", "atmosphere,stars,planets,milkyway",
-               "--width", "1024", "--height", "512", "--exposure", "0",
-               "--output", env, "--stats", stats]
+               "--width", "1024", "--height", "512", "--output", env, "--stats", stats]
+        # No fixed --exposure: passes invisible at the exposure are skipped
+        # (stars, Milky Way at EV100 0 by night); auto exposure keeps them, and
+        # the EXR is absolute either way.
         print("+", " ".join(cmd), file=sys.stderr)
         subprocess.run(cmd, check=True)
     return env, stats
