@@ -373,6 +373,7 @@ impl WgpuRenderer {
             return Err(RenderError::Device(e.to_string()));
         }
         stats.extend(PassStat::moon_eclipse(state));
+        let lights = self.observer_lights(scene, state, &mut plan)?;
         Ok(GpuFrame {
             texture: target,
             width: layout.width,
@@ -383,7 +384,31 @@ impl WgpuRenderer {
             lut_source: plan.lut_origin,
             sky_view_ms: plan.sky_view_ms,
             points,
+            lights,
         })
+    }
+
+    /// The plan's observer lights, the sky views from the GPU (read back)
+    /// or the CPU as the renderer computes them.
+    fn observer_lights(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+        plan: &mut FramePlan,
+    ) -> Result<himmel_skymodel::frame::ObserverLights, RenderError> {
+        if self.sky_view_on_gpu {
+            plan.observer_lights(
+                scene,
+                state,
+                &mut GpuSkyViews {
+                    pass: &mut self.passes.sky_view,
+                    gpu: &self.gpu,
+                    luts: &mut self.gpu_luts,
+                },
+            )
+        } else {
+            plan.observer_lights(scene, state, &mut CpuSkyViews)
+        }
     }
 
     /// Prepares every pass the plan runs, back to front, then the store:
@@ -546,6 +571,7 @@ impl SkyRenderer for WgpuRenderer {
             lut_source: frame.lut_source,
             geometry_ms: 0.0,
             sky_view_ms: frame.sky_view_ms,
+            lights: frame.lights,
         })
     }
 }

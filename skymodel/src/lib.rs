@@ -57,11 +57,13 @@ pub mod stars;
 pub mod state;
 pub mod sun;
 pub mod units;
+pub mod world_spec;
 
 pub use camera::Exposure;
 pub use frame::{FramePlan, LutOrigin, LutStore};
 pub use plan::{PlannedPass, SkipReason};
 pub use projection::{Camera, Projection};
 pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, Unavailable};
-pub use scene::{Effect, Scene, SceneError, StarParams, WorldSpec};
+pub use scene::{Effect, Scene, SceneError, StarParams};
 pub use state::{SkyState, SunState};
+pub use world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};
