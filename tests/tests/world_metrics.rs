@@ -126,7 +126,10 @@ fn the_committed_references_read_back() {
         let cam = &case["camera"];
         assert_eq!(
             (img.width as u64, img.height as u64),
-            (cam["width"].as_u64().unwrap(), cam["height"].as_u64().unwrap()),
+            (
+                cam["width"].as_u64().unwrap(),
+                cam["height"].as_u64().unwrap()
+            ),
             "{name}"
         );
         assert_eq!((mask.width, mask.height), (img.width, img.height));
@@ -150,7 +153,11 @@ fn the_committed_references_read_back() {
             y.iter().sum::<f64>() / y.len() as f64
         };
         assert!(mean(&lit) > 2.0 * mean(&sky), "{name}");
-        assert!(img.pixels.iter().flatten().all(|c| c.is_finite() && *c >= 0.0));
+        assert!(img
+            .pixels
+            .iter()
+            .flatten()
+            .all(|c| c.is_finite() && *c >= 0.0));
         assert_eq!(mean_relative_error(&img, &img, &geo), 0.0);
     }
 }

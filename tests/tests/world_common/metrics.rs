@@ -69,11 +69,7 @@ impl RgbImage {
 
 /// Luminance Y of a linear sRGB pixel.
 pub fn luminance(p: [f32; 3]) -> f64 {
-    Y_WEIGHTS
-        .iter()
-        .zip(p)
-        .map(|(w, c)| w * f64::from(c))
-        .sum()
+    Y_WEIGHTS.iter().zip(p).map(|(w, c)| w * f64::from(c)).sum()
 }
 
 /// Reads an RGB(A) OpenEXR file as linear RGB (alpha dropped).
