@@ -619,13 +619,23 @@ def lights_of(stats):
 # One case.
 
 def noise_of(a, b, sel):
+    """Noise of (A + B)/2 from two independent half images A, B on the pixels
+    `sel`: (per-pixel relative RMS, luminance-weighted RMS, pixels used).
+    The per-pixel measure is the RMS of (Y_A − Y_B)/((Y_A + Y_B)/2) over the
+    pixels whose mean is at least 1 % of the selection's median (pixels the
+    sky barely reaches — under arches, beside window reveals — have ~0
+    radiance and an undefined relative error), divided by 2; the weighted one
+    is RMS(Y_A − Y_B) / mean((Y_A + Y_B)/2) over all of `sel`, divided by 2
+    (the noise that a luminance-weighted error like mean|ΔY| / mean Y sees)."""
     ya, yb = luminance(a)[sel], luminance(b)[sel]
     mean = 0.5 * (ya + yb)
-    ok = mean > 0
-    if not ok.any():
-        return float("nan")
+    if mean.size == 0 or mean.max() <= 0:
+        return float("nan"), float("nan"), 0
+    ok = mean >= 0.01 * np.median(mean[mean > 0])
     d = (ya[ok] - yb[ok]) / mean[ok]
-    return float(np.sqrt(np.mean(d * d)))
+    rel = float(np.sqrt(np.mean(d * d))) / 2.0
+    weighted = float(np.sqrt(np.mean((ya - yb) ** 2)) / mean.mean()) / 2.0
+    return rel, weighted, int(ok.sum())
 
 
 def run_case(case, args, env_path, stats_path):
@@ -656,7 +666,7 @@ def run_case(case, args, env_path, stats_path):
         step, check = args.batch_spp, 2  # spp per batch, batches per noise check
     else:
         step, check = 1, 8  # one primary sample per pass
-    spp, k, noise = 0, 0, float("inf")
+    spp, k, noise, noise_w, n_noise = 0, 0, float("inf"), float("inf"), 0
     while True:
         if args.integrator == "path":
             acc[k % 2] += render(scene, step, 1000 + k)
@@ -666,8 +676,9 @@ def run_case(case, args, env_path, stats_path):
         spp += step
         k += 1
         if k % check == 0:
-            noise = noise_of(acc[0], acc[1], sel) / 2.0  # of (A + B)/2
-            print(f"  {case['name']}: {spp} spp, noise {100 * noise:.2f} %, "
+            noise, noise_w, n_noise = noise_of(acc[0], acc[1], sel)  # of (A + B)/2
+            print(f"  {case['name']}: {spp} spp, noise {100 * noise:.2f} % "
+                  f"(weighted {100 * noise_w:.2f} %), "
                   f"{time.time() - t0:.0f} s", file=sys.stderr)
             if spp >= args.max_spp or (spp >= args.min_spp and noise < args.target_noise):
                 break
@@ -690,6 +701,7 @@ def run_case(case, args, env_path, stats_path):
              sky.get("portals", [])) * int(sky.get("portal_samples", 256)))},
         "spp": spp, "noise_rel_rms": round(noise, 5),
         "noise_rel_rms_half": round(half_noise, 5), "noise_pixels": noise_pixels,
+        "noise_pixels_used": n_noise, "noise_weighted_rms": round(noise_w, 5),
         "mask_pixels": {"R": int(m[:, :, 0].sum()), "G": int(m[:, :, 1].sum()),
                         "B": int(m[:, :, 2].sum())},
         "mask_light": main,
