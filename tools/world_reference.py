@@ -404,10 +404,14 @@ def direct_pass(scene, cam, lights, sky, rng, max_lanes=3_000_000):
     k_cos = int(sky.get("cosine_samples", 256))
     portals = [portal_geometry(p) for p in sky.get("portals", [])]
     k_por = int(sky.get("portal_samples", 256)) if portals else 0
-    total = k_cos + k_por * len(portals)
+    k_env = int(sky.get("env_samples", 0))
+    e0 = k_cos + k_por * len(portals)  # the first envmap sample of the plan
+    total = e0 + k_env
     s_cos = int(round(math.sqrt(k_cos)))
     s_por = int(round(math.sqrt(k_por)))
-    assert s_cos * s_cos == k_cos and s_por * s_por == k_por, "sample counts must be squares"
+    s_env = int(round(math.sqrt(k_env)))
+    assert s_cos * s_cos == k_cos and s_por * s_por == k_por and s_env * s_env == k_env, \
+        "sample counts must be squares"
     sky_sum = dr.zeros(mi.Color3f, m)
     chunk = max(1, min(total, max_lanes // m))
     seed = int(rng.integers(0, 2**31))
@@ -434,6 +438,15 @@ def direct_pass(scene, cam, lights, sky, rng, max_lanes=3_000_000):
             y = mi.Point3f(*[float(c[q]) + a_ * float(e1[q]) + b_ * float(e2[q])
                              for q in range(3)])
             wdir = dr.select(this, dr.normalize(y - x), wdir)
+        if k_env:
+            # Envmap importance sampling (Mitsuba's luminance warp): the stars
+            # and the Milky Way by night, the circumsolar sky by day.
+            is_env = jj >= e0
+            je = jj - e0
+            ds, _ = env.sample_direction(
+                sik, mi.Point2f((mi.Float(je % s_env) + r1) / s_env,
+                                (mi.Float(je // s_env) + r2) / s_env), is_env)
+            wdir = dr.select(is_env, ds.d, wdir)
         local = sik.to_local(wdir)
         denom = k_cos * dr.maximum(mi.Frame3f.cos_theta(local), 0.0) * dr.inv_pi
         for c, e1, e2, nrm, area in portals:
@@ -447,6 +460,10 @@ def direct_pass(scene, cam, lights, sky, rng, max_lanes=3_000_000):
             vb = dr.dot(q3, mi.Vector3f(*[float(q) for q in e2])) / float(e2 @ e2)
             inside = ok & (t > 0) & (ua >= 0) & (ua <= 1) & (vb >= 0) & (vb <= 1)
             denom += dr.select(inside, k_por * t * t / (area * dr.abs(safe)), 0.0)
+        if k_env:
+            dq = dr.zeros(mi.DirectionSample3f, m * kc)
+            dq.d = wdir
+            denom += k_env * env.pdf_direction(sik, dq)
         useful = denom > 0
         f = sik.bsdf().eval(ctx, sik, local, useful)
         free = useful & ~scene.ray_test(sik.spawn_ray(wdir), useful)
@@ -696,9 +713,11 @@ def run_case(case, args, env_path, stats_path):
          "sky_sampling": {"cosine_samples": int(sky.get("cosine_samples", 256)),
                           "portals": sky.get("portals", []),
                           "portal_samples": int(sky.get("portal_samples", 256))
-                          if sky.get("portals") else 0},
+                          if sky.get("portals") else 0,
+                          "env_samples": int(sky.get("env_samples", 0))},
          "sky_samples_per_pixel": spp * (int(sky.get("cosine_samples", 256)) + len(
-             sky.get("portals", [])) * int(sky.get("portal_samples", 256)))},
+             sky.get("portals", [])) * int(sky.get("portal_samples", 256))
+             + int(sky.get("env_samples", 0)))},
         "spp": spp, "noise_rel_rms": round(noise, 5),
         "noise_rel_rms_half": round(half_noise, 5), "noise_pixels": noise_pixels,
         "noise_pixels_used": n_noise, "noise_weighted_rms": round(noise_w, 5),

@@ -144,7 +144,7 @@ fn the_committed_references_read_back() {
         assert!(count(&sky) > 100, "{name}");
         assert!(count(&lit) > 100 || name == "sun_room_night", "{name}");
         assert!(lit.iter().zip(&geo).all(|(l, g)| !l || *g), "{name}");
-        assert!(lit.iter().zip(&sky).all(|(l, s)| !(l && s)), "{name}");
+        assert!(lit.iter().zip(&sky).all(|(l, s)| !(*l && *s)), "{name}");
         let mean = |m: &[bool]| {
             let y: Vec<f64> = img
                 .luminance()
@@ -158,11 +158,13 @@ fn the_committed_references_read_back() {
         if count(&lit) > 0 {
             assert!(mean(&lit) > 2.0 * mean(&sky), "{name}");
         }
+        // Finite; tiny negative channels (out-of-gamut colours of the night
+        // sky, > −1e-5 cd/m²) come from Himmel's environment itself.
         assert!(img
             .pixels
             .iter()
             .flatten()
-            .all(|c| c.is_finite() && *c >= 0.0));
+            .all(|c| c.is_finite() && *c > -1e-3));
         assert_eq!(mean_relative_error(&img, &img, &geo), 0.0);
     }
 }
