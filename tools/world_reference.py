@@ -35,20 +35,33 @@ Usage (from the repository root):
     /tmp/venv/bin/python tools/world_reference.py --selftest
     /tmp/venv/bin/python tools/world_reference.py --cases tools/world_cases.json \
         --out tests/fixtures/world_ref [--case NAME …] [--himmel target/release/himmel]
-        [--target-noise 0.007] [--min-spp 256] [--max-spp 8192]
+        [--min-spp 32 --max-spp 32] [--target-noise 0.01] [--preview DIR]
+        [--integrator direct|path] [--validate SPP]
 
 By default the script calls `himmel` itself (`--himmel PATH`, default
 `$CARGO_TARGET_DIR/release/himmel` or `target/release/himmel`) to make the
-environment and the stats of each case's instant (cached per instant in
-`--work`, default /tmp/himmel-world-ref). `--env EXR --stats JSON` use given
-files instead (only with one `--case`).
+environment (`--effects atmosphere,stars,planets,milkyway`, 1024 × 512
+equirect) and the stats (a 64 × 32 render with `--effects atmosphere,sun,moon`:
+`direct_rgb` is 0 for a body not among the effects) of each case's instant,
+cached per instant in `--work` (default /tmp/himmel-world-ref).
+`--env EXR --stats JSON` use given files instead (only with one `--case`).
 
-Noise: the samples are rendered in batches with distinct seeds, alternately
-into two half images A and B. On the sky-lit-only pixels (mask G) the relative
-RMS of (Y_A − Y_B) / ((Y_A + Y_B)/2) divided by √2 is the noise of one half
-(spp/2); divided by 2 it is the noise of the written image (A + B)/2. Batches
-continue until the latter is below `--target-noise` (and at least `--min-spp`,
-at most `--max-spp`).
+Integrator (`--integrator`): `direct` (default) is the estimator of
+`direct_pass()` — the same direct-lighting integral as Mitsuba's `path` with
+max_depth 2, with Mitsuba's ray tracing, BSDFs and envmap, but exact
+directional lights and many stratified, MIS-combined sky samples per hit
+(cosine, portals, envmap importance sampling as the case's `sky_sampling`
+says); `path` is Mitsuba's stock path tracer (max_depth 2, hide_emitters
+false, box filter), ~10⁴× slower to 1 % here. `--validate SPP` also renders
+with `path` and prints the masked means of both.
+
+Noise: passes (one primary sample per pixel each; `spp` counts them) go
+alternately into two half images A and B; on the sky-lit-only pixels (mask G)
+the relative RMS of (Y_A − Y_B) / ((Y_A + Y_B)/2), over the pixels whose mean
+is ≥ 1 % of the mask's median, divided by 2 is the noise of the written image
+(A + B)/2 (÷ √2: of one half); also the luminance-weighted RMS. Passes
+continue until the former is below `--target-noise`, at least `--min-spp`,
+at most `--max-spp`.
 
 Conventions checked by `--selftest` (assertions, in a scene-free Mitsuba run):
 * Himmel's equirect (column = azimuth/360°·W, azimuth from North through East,
