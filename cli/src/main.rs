@@ -9,7 +9,8 @@ mod ephemeris_cmd;
 mod events_cmd;
 mod render_cmd;
 mod stars_cmd;
-mod timearg;
+
+use himmel_cli::timearg;
 
 use std::process::ExitCode;
 
