@@ -28,6 +28,18 @@ pub fn observer(lat: f64, lon: f64, elevation: f64) -> Result<Observer, String> 
     Observer::new(lat, lon, elevation).map_err(|e| e.to_string())
 }
 
+/// `s` with control characters escaped (`\n`, `\u{1b}`), for echoing an
+/// input in a one-line error.
+pub fn printable(s: &str) -> String {
+    s.chars()
+        .flat_map(|c| {
+            let escaped = c.is_control().then(|| c.escape_default());
+            let plain = (!c.is_control()).then_some(c);
+            escaped.into_iter().flatten().chain(plain)
+        })
+        .collect()
+}
+
 /// The header line that a batch file may start with.
 pub const BATCH_HEADER: &str = "time,lat,lon,elevation_m";
 
@@ -56,8 +68,12 @@ pub fn parse_batch_line(n: usize, line: &str) -> Result<Option<BatchLine>, Strin
         ));
     }
     let num = |s: &str, what: &str| -> Result<f64, String> {
-        s.parse::<f64>()
-            .map_err(|_| format!("--batch: line {n}: {what} '{s}' is not a number"))
+        s.parse::<f64>().map_err(|_| {
+            format!(
+                "--batch: line {n}: {what} '{}' is not a number",
+                printable(s)
+            )
+        })
     };
     let (lat, lon, elevation) = (
         num(cols[1], "lat")?,
@@ -95,5 +111,7 @@ mod tests {
         assert_eq!(e, "--batch: line 4: lon 'x' is not a number");
         let e = parse_batch_line(5, "2024-01-01,1,2").unwrap_err();
         assert!(e.ends_with("found 3"), "{e}");
+        let e = parse_batch_line(2, "2024-01-01\r\u{1b}[2J,1,2,3").unwrap_err();
+        assert!(e.contains("'2024-01-01\\r\\u{1b}[2J'"), "{e}");
     }
 }

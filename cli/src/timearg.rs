@@ -10,6 +10,8 @@
 
 use himmel_astro::UtcDateTime;
 
+use crate::inputs::printable;
+
 /// Parses `[±]YYYY-MM-DD` (0h UTC) or an RFC 3339 time for `flag`
 /// (`--time`, `--from`, `--to`), and `now` where `allow_now`.
 pub fn parse_date_or_time(flag: &str, s: &str, allow_now: bool) -> Result<UtcDateTime, String> {
@@ -19,8 +21,9 @@ pub fn parse_date_or_time(flag: &str, s: &str, allow_now: bool) -> Result<UtcDat
     himmel_astro::time::parse_date_or_rfc3339(s).map_err(|e| {
         let now = if allow_now { " or now" } else { "" };
         format!(
-            "{flag}: '{s}' is not a date or RFC 3339 time ({e}); expected e.g. 2024-04-08, \
-             2024-04-08T18:42:00Z, -0500-03-01 (Julian calendar before 1582-10-15){now}"
+            "{flag}: '{}' is not a date or RFC 3339 time ({e}); expected e.g. 2024-04-08, \
+             2024-04-08T18:42:00Z, -0500-03-01 (Julian calendar before 1582-10-15){now}",
+            printable(s)
         )
     })
 }
@@ -29,7 +32,10 @@ pub fn parse_date_or_time(flag: &str, s: &str, allow_now: bool) -> Result<UtcDat
 /// 1582-10-15); returns (year, month, day).
 pub fn parse_date(flag: &str, s: &str) -> Result<(i32, u8, u8), String> {
     let t = himmel_astro::time::parse_date(s).map_err(|e| {
-        format!("{flag}: '{s}' is not a date ({e}); expected YYYY-MM-DD, e.g. 2024-04-08 or -0500-03-01")
+        format!(
+            "{flag}: '{}' is not a date ({e}); expected YYYY-MM-DD, e.g. 2024-04-08 or -0500-03-01",
+            printable(s)
+        )
     })?;
     Ok((t.year, t.month, t.day))
 }
