@@ -213,6 +213,7 @@ impl SkyRenderer for CpuRenderer {
             });
         }
         stats.extend(PassStat::moon_eclipse(state));
+        let lights = plan.observer_lights(scene, state, &mut CpuSkyViews)?;
         Ok(RenderOutput {
             image: HdrImage {
                 width: w,
@@ -225,6 +226,7 @@ impl SkyRenderer for CpuRenderer {
             lut_source: plan.lut_origin,
             geometry_ms,
             sky_view_ms: plan.sky_view_ms,
+            lights,
         })
     }
 }

@@ -42,6 +42,9 @@ pub struct GpuFrame {
     /// ran): the renderer's [`PointMethod`], or tiles where a quad target
     /// of the image's width exceeds the adapter's texture limit.
     pub points: Option<PointMethod>,
+    /// The Sun and Moon as directional lights and the sky's horizontal
+    /// illuminance of this frame.
+    pub lights: himmel_skymodel::frame::ObserverLights,
 }
 
 /// The per-pixel buffers the 3D lighting passes read and write, kept by
@@ -450,9 +453,6 @@ pub fn base_uniforms(cam: &Camera, state: &SkyState) -> FrameUniforms {
 /// The perspective camera's basis (ENU: forward, right, up) and
 /// tan(fov / 2), as projection.rs builds it.
 fn perspective_basis(cam: &Camera) -> (DVec3, DVec3, DVec3, f64) {
-    let (yaw, pitch) = (cam.yaw_deg.to_radians(), cam.pitch_deg.to_radians());
-    let f = himmel_skymodel::projection::enu_from_alt_az(pitch, yaw);
-    let right = DVec3::new(yaw.cos(), -yaw.sin(), 0.0);
-    let up = right.cross(f);
+    let (f, right, up) = cam.basis();
     (f, right, up, (cam.fov_deg.to_radians() / 2.0).tan())
 }

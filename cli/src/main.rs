@@ -101,7 +101,7 @@ enum Command {
     #[command(allow_negative_numbers = true)]
     Render(Box<render_cmd::RenderArgs>),
     /// Print a complete default scene (JSON) for `render --scene`.
-    SceneTemplate,
+    SceneTemplate(render_cmd::TemplateArgs),
 }
 
 fn main() -> ExitCode {
@@ -144,7 +144,7 @@ fn main() -> ExitCode {
         Command::Riseset(args) => events_cmd::run_riseset(&args),
         Command::Eclipses(args) => events_cmd::run_eclipses(&args),
         Command::Render(args) => render_cmd::run(&args),
-        Command::SceneTemplate => render_cmd::template(),
+        Command::SceneTemplate(a) => render_cmd::template(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -82,6 +82,48 @@ pub struct RenderArgs {
     /// With a world: add an infinite ground plane at y = 0.
     #[arg(long)]
     ground: bool,
+    /// Camera position in the world frame (x East, y Up, z South), metres.
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    camera_pos: Option<String>,
+    /// The world point the camera looks at, metres (replaces --yaw/--pitch).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    look_at: Option<String>,
+    /// The camera's up hint with --look-at (default 0,1,0).
+    #[arg(long, value_name = "X,Y,Z", allow_hyphen_values = true)]
+    up: Option<String>,
+    /// Fog scattering coefficient, 1/m (adds a fog when the scene has none).
+    #[arg(long, value_name = "PER_M")]
+    fog_scattering: Option<f64>,
+    /// Fog Henyey–Greenstein asymmetry g in (-1, 1).
+    #[arg(long, value_name = "G", allow_hyphen_values = true)]
+    fog_g: Option<f64>,
+    /// Fog top, metres above the ground.
+    #[arg(long, value_name = "M")]
+    fog_top: Option<f64>,
+}
+
+#[derive(Args, Debug)]
+pub struct TemplateArgs {
+    /// Include a world, its camera, a fog and every lighting key.
+    #[arg(long)]
+    world: bool,
+}
+
+/// Parses `X,Y,Z` (three finite numbers) for `flag`.
+fn triple(flag: &str, s: &str) -> Result<[f64; 3], CliError> {
+    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
+    let bad = || CliError::input(format!("{flag} '{s}': expected three numbers X,Y,Z"));
+    if parts.len() != 3 {
+        return Err(bad());
+    }
+    let mut v = [0.0; 3];
+    for (o, p) in v.iter_mut().zip(&parts) {
+        *o = p.parse::<f64>().map_err(|_| bad())?;
+        if !o.is_finite() {
+            return Err(bad());
+        }
+    }
+    Ok(v)
 }
 
 /// A scene error as a one-line input error naming the flag and the field:
@@ -136,6 +178,12 @@ fn flag_of(a: &RenderArgs, field: &str) -> Option<&'static str> {
         "sun_scale" => ("--sun-scale", a.sun_scale.is_some()),
         "moon_scale" => ("--moon-scale", a.moon_scale.is_some()),
         "exposure" => ("--exposure", a.exposure.is_some()),
+        "camera.position_m" => ("--camera-pos", a.camera_pos.is_some()),
+        "camera.look_at_m" => ("--look-at", a.look_at.is_some()),
+        "camera.up" => ("--up", a.up.is_some()),
+        "fog.scattering_per_m" => ("--fog-scattering", a.fog_scattering.is_some()),
+        "fog.phase.hg" => ("--fog-g", a.fog_g.is_some()),
+        "fog.top_m" => ("--fog-top", a.fog_top.is_some()),
         _ => return None,
     };
     // Without a scene file every value comes from a flag or its default.
@@ -232,6 +280,36 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
             None => return Err(CliError::input("--ground needs a world (--world FILE)")),
         }
     }
+    if let Some(t) = &a.camera_pos {
+        scene.camera.position_m = Some(triple("--camera-pos", t)?);
+    }
+    if let Some(t) = &a.look_at {
+        scene.camera.look_at_m = Some(triple("--look-at", t)?);
+    }
+    if let Some(t) = &a.up {
+        scene.camera.up = Some(triple("--up", t)?);
+    }
+    if a.camera_pos.is_some() || a.look_at.is_some() {
+        // A placed camera is a perspective camera (world.md).
+        if a.projection.is_none() {
+            scene.camera.projection = Projection::Perspective;
+        }
+    }
+    if a.fog_scattering.is_some() || a.fog_g.is_some() || a.fog_top.is_some() {
+        let fog = scene.fog.get_or_insert_with(Default::default);
+        if let Some(v) = a.fog_scattering {
+            fog.scattering_per_m = finite("--fog-scattering", v)?;
+        }
+        if let Some(g) = a.fog_g {
+            fog.phase = himmel_skymodel::FogPhase::Hg(finite("--fog-g", g)?);
+        }
+        if let Some(v) = a.fog_top {
+            fog.top_m = Some(finite("--fog-top", v)?);
+        }
+    }
+    if scene.world.is_some() && a.projection.is_none() && a.scene.is_none() {
+        scene.camera.projection = Projection::Perspective;
+    }
     scene.validate().map_err(|e| scene_error(a, e))?;
     Ok(scene)
 }
@@ -282,26 +360,22 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let scene = build_scene(a)?;
-    if let Some(world) = load_world(a, &scene)? {
-        // World rendering belongs to the wgpu backend (world.md), whose
-        // world passes are not in this version yet.
-        let msg = if backend == "cpu" {
-            "--backend cpu cannot render a 3D world; use --backend wgpu".to_string()
-        } else {
-            format!(
-                "--backend {backend}: rendering 3D worlds is not available in this version yet (the world loaded: {} triangles, {} materials)",
-                world.triangles(),
-                world.materials.len()
-            )
-        };
+    let t_world = Clock::now();
+    let world = load_world(a, &scene)?;
+    let world_load_ms = t_world.elapsed().as_secs_f64() * 1e3;
+    if world.is_some() && backend == "cpu" {
+        // World rendering belongs to the wgpu backend (world.md).
         return Err(CliError {
             code: 3,
-            message: msg,
+            message: "--backend cpu cannot render a 3D world; use --backend wgpu".into(),
         });
     }
     let state = SkyState::at(&scene).map_err(|e| scene_error(a, e))?;
     let t_init = Clock::now();
-    let (mut renderer, mut timing) = make_renderer(backend)?;
+    let (mut renderer, mut timing) = match &world {
+        Some(w) => make_world_renderer(backend, w)?,
+        None => make_renderer(backend)?,
+    };
     let init_ms = t_init.elapsed().as_secs_f64() * 1e3;
     let t_render = Clock::now();
     let out = match renderer.render(&scene, &state) {
@@ -343,6 +417,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
     };
     let write_ms = t_write.elapsed().as_secs_f64() * 1e3;
     if let Some(path) = &a.stats {
+        let sun_direct = direct_stats(out.lights.direct.sun.as_ref());
         let stats = json!({
             "backend": renderer.name(),
             "timing": timing,
@@ -367,8 +442,19 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
                 "semidiameter_deg": state.sun.angular_radius.to_degrees(),
                 "illuminance_lux": state.sun.illuminance_lux,
                 "visible_fraction": state.sun.visible_fraction,
+                "direct_illuminance_lux": sun_direct.0,
+                "direct_rgb": sun_direct.1,
             },
-            "moon": moon_stats(&state.moon),
+            "moon": moon_stats(&state.moon, direct_stats(out.lights.direct.moon.as_ref())),
+            "world": world.as_ref().map(|w| json!({
+                "triangles": w.triangles(),
+                "materials": w.materials.len(),
+                "load_ms": world_load_ms,
+            })),
+            "sky": {
+                "horizontal_illuminance_lux": himmel_skymodel::frame::lights::luminance(out.lights.sky_horizontal_rgb),
+                "horizontal_rgb": out.lights.sky_horizontal_rgb,
+            },
         });
         let text =
             serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
@@ -423,16 +509,56 @@ fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), 
     }
 }
 
-/// `himmel scene-template`: prints the complete default scene.
-pub fn template() -> Result<(), CliError> {
-    println!("{}", Scene::template_json());
+/// The wgpu renderer with `world` uploaded (worlds are the wgpu backend's,
+/// world.md): without an adapter `wgpu` and `auto` exit 3 alike, as there
+/// is no CPU fallback for a world.
+fn make_world_renderer(
+    backend: &str,
+    world: &himmel_world::World,
+) -> Result<(Box<dyn SkyRenderer>, &'static str), CliError> {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+    match himmel_wgpu::WgpuRenderer::new(himmel_cpu::default_cache_dir()) {
+        Ok(mut r) => {
+            r.set_progress(Some(std::sync::Arc::new(
+                himmel_cpu::TerminalProgress::default(),
+            )));
+            r.set_world(world);
+            let timing = r.timing().name();
+            Ok((Box::new(r), timing))
+        }
+        Err(e) => Err(CliError {
+            code: 3,
+            message: format!(
+                "--backend {backend}: {e}; 3D worlds need a wgpu adapter (lavapipe serves without a GPU)"
+            ),
+        }),
+    }
+}
+
+/// `himmel scene-template [--world]`: prints the complete default scene
+/// (with `--world`, also the world, camera placement, fog and lighting keys).
+pub fn template(a: &TemplateArgs) -> Result<(), CliError> {
+    if a.world {
+        println!("{}", Scene::template_world_json());
+    } else {
+        println!("{}", Scene::template_json());
+    }
     Ok(())
+}
+
+/// A directional light's `--stats` fields (zero when it does not light).
+fn direct_stats(l: Option<&himmel_skymodel::frame::DirectLight>) -> (f64, [f64; 3]) {
+    l.map_or((0.0, [0.0; 3]), |l| (l.lux(), l.rgb))
 }
 
 /// The Moon's block of `--stats`: place, size, phase, magnitude and, near a
 /// lunar eclipse, the eclipse magnitudes.
-fn moon_stats(m: &himmel_skymodel::moon::MoonState) -> serde_json::Value {
+fn moon_stats(m: &himmel_skymodel::moon::MoonState, direct: (f64, [f64; 3])) -> serde_json::Value {
     json!({
+        "direct_illuminance_lux": direct.0,
+        "direct_rgb": direct.1,
         "alt_deg": m.alt_deg,
         "alt_refracted_deg": m.alt_refracted_deg,
         "az_deg": m.az_deg,

@@ -149,7 +149,7 @@ fn template_is_a_complete_scene_and_renders_with_stats() {
     assert_eq!(s["backend"], "cpu");
     assert_eq!(s["width"], 96);
     let passes = s["passes"].as_array().unwrap();
-    assert_eq!(passes.len(), 7);
+    assert_eq!(passes.len(), himmel_skymodel::Effect::ALL.len());
     for p in passes {
         let ran = p["ran"].as_bool().unwrap();
         assert_eq!(ran, p["name"] == "atmosphere");
@@ -272,7 +272,7 @@ fn wgpu_backend_renders_with_per_pass_times() {
     let timing = s["timing"].as_str().unwrap();
     assert!(timing == "gpu-timestamps" || timing == "cpu", "{timing}");
     let passes = s["passes"].as_array().unwrap();
-    assert_eq!(passes.len(), 7);
+    assert_eq!(passes.len(), himmel_skymodel::Effect::ALL.len());
     for p in passes {
         if p["ran"].as_bool().unwrap() {
             assert!(p["ms"].as_f64().unwrap() >= 0.0, "{p}");

@@ -37,6 +37,10 @@ pub enum SkipReason {
     PlanetsBelowHorizon,
     /// Invisible at the frame's exposure.
     Culled(Culled),
+    /// A lighting pass of a scene without a 3D world.
+    NoWorld,
+    /// Shadow maps while neither the Sun nor the Moon is above the horizon.
+    NoDirectLight,
 }
 
 /// Why a night pass is invisible at the frame's exposure
@@ -143,6 +147,10 @@ impl std::fmt::Display for SkipReason {
             }
             SkipReason::PlanetsBelowHorizon => f.write_str("every planet is below the horizon"),
             SkipReason::Culled(c) => c.fmt(f),
+            SkipReason::NoWorld => f.write_str("no 3D world in the scene"),
+            SkipReason::NoDirectLight => f.write_str(
+                "neither the Sun nor the Moon is above the horizon: nothing casts a shadow",
+            ),
         }
     }
 }
@@ -195,6 +203,13 @@ pub fn plan(
                     Effect::Moon => moon_below_horizon(scene, moon),
                     Effect::Planets if planets.iter().all(|s| s.dir.z < 0.0) => {
                         Some(SkipReason::PlanetsBelowHorizon)
+                    }
+                    e if e.is_lighting() && scene.world.is_none() => Some(SkipReason::NoWorld),
+                    Effect::Shadows
+                        if sun.alt_refracted_deg <= 0.0
+                            && (moon.alt_refracted_deg <= 0.0 || !scene.wants(Effect::Moon)) =>
+                    {
+                        Some(SkipReason::NoDirectLight)
                     }
                     _ => None,
                 }

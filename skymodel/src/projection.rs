@@ -37,6 +37,16 @@ impl Projection {
             _ => None,
         }
     }
+
+    /// The projection's name as the scene and the command line write it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Projection::Fisheye => "fisheye",
+            Projection::Equirect => "equirect",
+            Projection::Perspective => "perspective",
+            Projection::Cubemap => "cubemap",
+        }
+    }
 }
 
 /// The camera: projection, image size and orientation.
@@ -60,7 +70,25 @@ pub struct Camera {
     pub pitch_deg: Degrees,
     /// Vertical field of view of the perspective camera, degrees in (0, 180) (default 90).
     pub fov_deg: Degrees,
+    /// Position of the perspective camera in the world frame (x East, y Up,
+    /// z South), metres, each component in [−1e6, 1e6] (default none:
+    /// `[0, 1.7, 0]`, `spec/world.md`). Sky pixels do not depend on it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub position_m: Option<[f64; 3]>,
+    /// The world point the perspective camera looks at (world frame,
+    /// metres); when given it replaces `yaw_deg`/`pitch_deg` (default none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub look_at_m: Option<[f64; 3]>,
+    /// The camera's up hint in the world frame with `look_at_m` (default
+    /// `[0, 1, 0]`); the image's vertical is the hint made orthogonal to
+    /// the view direction, so a tilted hint rolls the camera.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub up: Option<[f64; 3]>,
 }
+
+/// Where the camera stands without `camera.position_m`: 1.7 m above the
+/// ground at the origin (`spec/world.md`).
+pub const DEFAULT_EYE_M: [f64; 3] = [0.0, 1.7, 0.0];
 
 impl Default for Camera {
     fn default() -> Self {
@@ -71,6 +99,9 @@ impl Default for Camera {
             yaw_deg: 0.0,
             pitch_deg: 0.0,
             fov_deg: 90.0,
+            position_m: None,
+            look_at_m: None,
+            up: None,
         }
     }
 }
@@ -152,15 +183,76 @@ impl Camera {
                 message: format!("{} is outside [-90, 90] degrees", show(self.pitch_deg)),
             });
         }
+        for (field, v) in [
+            ("camera.position_m", self.position_m),
+            ("camera.look_at_m", self.look_at_m),
+            ("camera.up", self.up),
+        ] {
+            if let Some(v) = v {
+                if !v.iter().all(|c| c.is_finite() && c.abs() <= 1e6) {
+                    return Err(CameraError {
+                        field,
+                        message: format!(
+                            "[{}, {}, {}]: each component must be a finite number in [-1e6, 1e6]",
+                            show(v[0]),
+                            show(v[1]),
+                            show(v[2])
+                        ),
+                    });
+                }
+            }
+        }
+        if self.look_at_m.is_some() {
+            let f = DVec3::from_array(self.look_at_m.unwrap_or_default()) - self.eye_m();
+            if f.length() < 1e-6 {
+                return Err(CameraError {
+                    field: "camera.look_at_m",
+                    message: "coincides with camera.position_m: no view direction".into(),
+                });
+            }
+            let up = DVec3::from_array(self.up.unwrap_or([0.0, 1.0, 0.0]));
+            if f.normalize().cross(up).length() < 1e-6 {
+                return Err(CameraError {
+                    field: "camera.up",
+                    message: "is zero or parallel to the view direction (look_at_m − position_m)"
+                        .into(),
+                });
+            }
+        } else if self.up.is_some() {
+            return Err(CameraError {
+                field: "camera.up",
+                message: "needs camera.look_at_m (yaw/pitch cameras have no roll)".into(),
+            });
+        }
         Ok(())
     }
 
-    fn perspective_basis(&self) -> (DVec3, DVec3, DVec3) {
+    /// The camera's position in the world frame, metres
+    /// (`position_m`, or [`DEFAULT_EYE_M`]).
+    pub fn eye_m(&self) -> DVec3 {
+        DVec3::from_array(self.position_m.unwrap_or(DEFAULT_EYE_M))
+    }
+
+    /// The perspective camera's basis in ENU: (forward, right, up). From
+    /// `look_at_m`/`up` when given (world frame converted to ENU), else
+    /// from `yaw_deg`/`pitch_deg` with zenith up and no roll.
+    pub fn basis(&self) -> (DVec3, DVec3, DVec3) {
+        if let Some(target) = self.look_at_m {
+            let f = enu_from_scene(DVec3::from_array(target) - self.eye_m());
+            let hint = enu_from_scene(DVec3::from_array(self.up.unwrap_or([0.0, 1.0, 0.0])));
+            let f = f.normalize();
+            let right = f.cross(hint).normalize();
+            return (f, right, right.cross(f));
+        }
         let (yaw, pitch) = (self.yaw_deg.to_radians(), self.pitch_deg.to_radians());
         let f = enu_from_alt_az(pitch, yaw);
         let right = DVec3::new(yaw.cos(), -yaw.sin(), 0.0);
         let up = right.cross(f);
         (f, right, up)
+    }
+
+    fn perspective_basis(&self) -> (DVec3, DVec3, DVec3) {
+        self.basis()
     }
 
     /// The ENU direction seen at continuous image position (px, py), or
@@ -358,6 +450,7 @@ mod tests {
             yaw_deg: 30.0,
             pitch_deg: 20.0,
             fov_deg: 70.0,
+            ..Camera::default()
         }
     }
 

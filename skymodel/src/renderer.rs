@@ -4,7 +4,7 @@
 use serde::Serialize;
 
 pub use crate::error::{RenderError, Unavailable};
-use crate::frame::LutOrigin;
+use crate::frame::{LutOrigin, ObserverLights};
 use crate::scene::{Effect, Scene};
 use crate::state::SkyState;
 
@@ -65,6 +65,9 @@ pub struct RenderOutput {
     pub geometry_ms: f64,
     /// Time spent on the per-frame sky-view LUT (part of the atmosphere pass), ms.
     pub sky_view_ms: f64,
+    /// The Sun and Moon as directional lights and the sky's horizontal
+    /// illuminance at this instant (what a 3D world receives).
+    pub lights: ObserverLights,
 }
 
 /// A sky renderer (CPU or GPU): renders the passes that `state` plans for

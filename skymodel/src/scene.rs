@@ -7,7 +7,9 @@ use serde::{Deserialize, Serialize};
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
 use crate::projection::Camera;
+pub use crate::scene_error::SceneError;
 use crate::units::show;
+pub use crate::world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};
 
 /// A sky effect (a render pass) a scene may call for.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
@@ -27,11 +29,28 @@ pub enum Effect {
     Milkyway,
     /// Cloud layers (a later issue).
     Clouds,
+    /// A 3D world's G-buffer and its lighting by the Sun, Moon and sky
+    /// (`spec/world.md`; wgpu backend).
+    World,
+    /// The Sun's and Moon's shadow maps on the world.
+    Shadows,
+    /// Light shafts in the fog (a later issue).
+    Godrays,
+    /// Screen-space ambient occlusion (a later issue).
+    Ao,
+    /// Screen-space reflections (a later issue).
+    Ssr,
+    /// Dynamic global illumination (a later issue).
+    Gi,
+    /// Temporal filtering (a later issue).
+    Temporal,
 }
 
 impl Effect {
     /// All effects in back-to-front pass order (design.md).
-    pub const ALL: [Effect; 7] = [
+    /// The sky passes first, then the lighting passes of a 3D world in
+    /// their order (design.md).
+    pub const ALL: [Effect; 14] = [
         Effect::Milkyway,
         Effect::Stars,
         Effect::Planets,
@@ -39,6 +58,13 @@ impl Effect {
         Effect::Sun,
         Effect::Atmosphere,
         Effect::Clouds,
+        Effect::World,
+        Effect::Shadows,
+        Effect::Godrays,
+        Effect::Ao,
+        Effect::Ssr,
+        Effect::Gi,
+        Effect::Temporal,
     ];
 
     /// The effect's name as used on the command line and in `--stats`.
@@ -51,6 +77,13 @@ impl Effect {
             Effect::Planets => "planets",
             Effect::Milkyway => "milkyway",
             Effect::Clouds => "clouds",
+            Effect::World => "world",
+            Effect::Shadows => "shadows",
+            Effect::Godrays => "godrays",
+            Effect::Ao => "ao",
+            Effect::Ssr => "ssr",
+            Effect::Gi => "gi",
+            Effect::Temporal => "temporal",
         }
     }
 
@@ -71,6 +104,23 @@ impl Effect {
                 | Effect::Stars
                 | Effect::Planets
                 | Effect::Milkyway
+                | Effect::World
+                | Effect::Shadows
+        )
+    }
+
+    /// Whether the effect lights a 3D world (wgpu backend) rather than
+    /// drawing the sky.
+    pub fn is_lighting(self) -> bool {
+        matches!(
+            self,
+            Effect::World
+                | Effect::Shadows
+                | Effect::Godrays
+                | Effect::Ao
+                | Effect::Ssr
+                | Effect::Gi
+                | Effect::Temporal
         )
     }
 }
@@ -81,7 +131,7 @@ pub fn parse_effects(list: &str) -> Result<Vec<Effect>, String> {
     for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let e = Effect::from_name(name).ok_or_else(|| {
             format!(
-                "unknown effect '{name}'; expected a comma list of atmosphere, sun, moon, stars, planets, milkyway, clouds"
+                "unknown effect '{name}'; expected a comma list of atmosphere, sun, moon, stars, planets, milkyway, clouds, world, shadows, godrays, ao, ssr, gi, temporal"
             )
         })?;
         if !out.contains(&e) {
@@ -165,18 +215,6 @@ impl Default for StarParams {
     }
 }
 
-/// A 3D world under the sky (`shared/spec/world.md`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct WorldSpec {
-    /// The glTF 2.0 file (`.gltf` or `.glb`), relative to the scene file.
-    pub gltf: String,
-    /// Adds an infinite Lambertian plane at y = 0 with
-    /// `atmosphere.ground_albedo` (default false).
-    #[serde(default)]
-    pub ground: bool,
-}
-
 /// The complete scene. Every number has a documented range that
 /// [`Scene::validate`] checks; [`Scene::from_json`] names the field of any
 /// error by its path.
@@ -215,6 +253,16 @@ pub struct Scene {
     /// A 3D world under the sky (default none: a sky-only render).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub world: Option<WorldSpec>,
+    /// A homogeneous fog over the world (default none).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub fog: Option<FogSpec>,
+    /// The lighting passes' settings (ranges in [`LightingSpec`]).
+    #[serde(skip_serializing_if = "is_default_lighting")]
+    pub lighting: LightingSpec,
+}
+
+fn is_default_lighting(l: &LightingSpec) -> bool {
+    *l == LightingSpec::default()
 }
 
 impl Default for Scene {
@@ -234,49 +282,10 @@ impl Default for Scene {
             stars: StarParams::default(),
             dither: true,
             world: None,
+            fog: None,
+            lighting: LightingSpec::default(),
         }
     }
-}
-
-/// An invalid scene, naming the field.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SceneError {
-    /// The field or flag-like path (`observer.lat_deg`, `camera.fov_deg`, …).
-    pub field: String,
-    /// What is wrong and what is accepted.
-    pub message: String,
-}
-
-impl std::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.field, self.message)
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-impl SceneError {
-    /// An error for `field`; control characters that came from the input
-    /// (a key or string with a newline) are escaped, so that the message
-    /// stays one printable line.
-    fn new(field: &str, message: impl Into<String>) -> Self {
-        SceneError {
-            field: printable(field),
-            message: printable(&message.into()),
-        }
-    }
-}
-
-/// `s` with control characters escaped (`\n`, `\u{1b}`): text taken from
-/// an input and shown in a one-line error.
-pub(crate) fn printable(s: &str) -> String {
-    s.chars()
-        .flat_map(|c| {
-            let escaped = c.is_control().then(|| c.escape_default());
-            let plain = (!c.is_control()).then_some(c);
-            escaped.into_iter().flatten().chain(plain)
-        })
-        .collect()
 }
 
 impl Scene {
@@ -316,6 +325,30 @@ impl Scene {
     /// The complete default scene as pretty JSON (`himmel scene-template`).
     pub fn template_json() -> String {
         serde_json::to_string_pretty(&Scene::default()).unwrap_or_default()
+    }
+
+    /// The default scene with a world, its camera, a fog and every lighting
+    /// key at its default (`himmel scene-template --world`).
+    pub fn template_world_json() -> String {
+        let mut s = Scene::default();
+        s.world = Some(WorldSpec {
+            gltf: "world.glb".into(),
+            ground: true,
+        });
+        s.camera.projection = crate::Projection::Perspective;
+        s.camera.width = 1280;
+        s.camera.height = 720;
+        s.camera.fov_deg = 60.0;
+        s.camera.position_m = Some(crate::projection::DEFAULT_EYE_M);
+        s.camera.look_at_m = Some([0.0, 1.7, -10.0]);
+        s.camera.up = Some([0.0, 1.0, 0.0]);
+        s.fog = Some(FogSpec {
+            top_m: Some(50.0),
+            ..FogSpec::default()
+        });
+        let mut v = serde_json::to_value(&s).unwrap_or_default();
+        v["lighting"] = serde_json::to_value(LightingSpec::default()).unwrap_or_default();
+        serde_json::to_string_pretty(&v).unwrap_or_default()
     }
 
     /// Whether the scene asks for `e`.
@@ -360,6 +393,17 @@ impl Scene {
         self.atmosphere
             .validate()
             .map_err(|e| SceneError::new(&e.field, e.expected))?;
+        crate::world_spec::validate_fog(&self.fog)?;
+        self.lighting.validate()?;
+        if self.world.is_some() && self.camera.projection != crate::Projection::Perspective {
+            return Err(SceneError::new(
+                "camera.projection",
+                format!(
+                    "a 3D world is rendered through the perspective camera, not {}",
+                    self.camera.projection.name()
+                ),
+            ));
+        }
         self.validate_lut()
     }
 
@@ -637,9 +681,10 @@ mod tests {
             let e = Scene::from_json(text).unwrap_err();
             assert_eq!(e.field, field, "{text}: {e}");
         }
-        // f32 overflow becomes infinite, which the range check refuses.
-        let s = Scene::from_json(r#"{"lut": {"forward_peak_deg": 1e39}}"#).unwrap();
-        assert_eq!(s.validate().unwrap_err().field, "lut.forward_peak_deg");
+        // f32 overflow is refused while reading (serde_json's
+        // `float_roundtrip` parses exactly), naming the field.
+        let e = Scene::from_json(r#"{"lut": {"forward_peak_deg": 1e39}}"#).unwrap_err();
+        assert_eq!(e.field, "lut.forward_peak_deg");
         let s = Scene::from_json(r#"{"lut": {"forward_peak_deg": -50}}"#).unwrap();
         assert_eq!(s.validate().unwrap_err().field, "lut.forward_peak_deg");
     }

@@ -630,6 +630,7 @@ mod tests {
                 yaw_deg: 20.0,
                 pitch_deg: 30.0,
                 fov_deg: 120.0,
+                ..Camera::default()
             };
             let (w, h) = cam.image_size();
             for &d in &dirs {

@@ -8,7 +8,8 @@ use himmel_astro::{Body, Instant, Observer, Precision, Sky, UtcDateTime};
 use crate::moon::MoonState;
 pub use crate::plan::PlannedPass;
 use crate::projection::enu_from_alt_az;
-use crate::scene::{printable, Effect, Scene, SceneError};
+use crate::scene::{Effect, Scene, SceneError};
+use crate::scene_error::printable;
 use crate::spectrum::BandWeights;
 pub use crate::sun::SunState;
 

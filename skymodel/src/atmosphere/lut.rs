@@ -483,6 +483,98 @@ pub struct SkyViewInput {
     pub irradiance_scale: f32,
 }
 
+/// The phase functions of one view ray (they depend only on the angle
+/// between the view and the light).
+#[derive(Debug, Clone, Copy)]
+struct ScatterPhases {
+    pr: f32,
+    pm: f32,
+    pm_flat: f32,
+}
+
+impl ScatterPhases {
+    fn new(luts: &AtmosphereLuts, cos_theta: f32) -> Self {
+        let m = &luts.medium;
+        let pr = rayleigh_phase(cos_theta);
+        let pm = cornette_shanks_phase(m.g, cos_theta);
+        // Within the δ-scaled forward cone the aerosol phase function is
+        // flattened (that light already travels in the δ-scaled beam); the
+        // peak above the flat part is single scattering of the true beam.
+        let cone = luts.config.forward_peak_deg.to_radians().cos();
+        let pm_flat = if luts.config.forward_peak_deg > 0.0 && cos_theta > cone {
+            cornette_shanks_phase(m.g, cone)
+        } else {
+            pm
+        };
+        ScatterPhases { pr, pm, pm_flat }
+    }
+
+    /// The δ-scaled extinction and the in-scattering source (single
+    /// scattering of the beam plus Ψ_ms multiple scattering) at point `p`
+    /// (planet-centred, km) lit from `sun`.
+    #[inline]
+    fn source(&self, luts: &AtmosphereLuts, p: Vec3, sun: Vec3) -> (Spectrum, Spectrum) {
+        let m = &luts.medium;
+        let fwd = luts.forward;
+        let ScatterPhases { pr, pm, pm_flat } = *self;
+        let rp = p.length();
+        let mus = p.dot(sun) / rp;
+        let dens = m.densities(rp);
+        let (sr, sm) = m.scattering(dens);
+        let ext = m.extinction(dens) - fwd * dens.mie;
+        let tsun = luts.scattering_sun_transmittance(rp, mus);
+        let psi = luts.multiscatter_at(rp, mus);
+        let mut src = (sr * pr + sm * pm_flat) * tsun + (sr + sm - fwd * dens.mie) * psi;
+        if pm > pm_flat {
+            src += sm * (pm - pm_flat) * luts.sun_transmittance(rp, mus);
+        }
+        (ext, src)
+    }
+}
+
+/// Aerial perspective along one view ray: the in-scattered radiance
+/// transfer (band radiance per unit solar irradiance, sr⁻¹) and the
+/// transmittance from the observer at radius `r0` (km) in local direction
+/// `view` (z up) to each distance of `ends` (km, ascending), with the light
+/// at `sun`. The same integrand as the sky view ([`SkyView::transfer`]),
+/// marched in `steps_per_end` equal steps per interval between ends and
+/// clipped where the ray meets the ground or leaves the atmosphere
+/// (Hillaire 2020 §5.5 computes this per froxel).
+pub fn aerial_perspective(
+    luts: &AtmosphereLuts,
+    r0: f32,
+    view: Vec3,
+    sun: Vec3,
+    ends: &[f32],
+    steps_per_end: usize,
+) -> Vec<(Spectrum, Spectrum)> {
+    let pos = Vec3::new(0.0, 0.0, r0);
+    let (t_max, _) = luts.medium.ray_end(r0, view.z);
+    let phases = ScatterPhases::new(luts, view.dot(sun));
+    let mut tv = Spectrum::ONE;
+    let mut l = Spectrum::ZERO;
+    let mut t0 = 0.0f32;
+    let n = steps_per_end.max(1);
+    ends.iter()
+        .map(|&end| {
+            let t1 = end.clamp(t0, t_max.max(t0));
+            let dt = (t1 - t0) / n as f32;
+            for s in 0..n {
+                if dt <= 0.0 {
+                    break;
+                }
+                let t = t0 + (s as f32 + 0.5) * dt;
+                let (ext, src) = phases.source(luts, pos + view * t, sun);
+                let seg = (ext * dt).exp_neg();
+                l += tv * src * integrate_segment(ext, seg, dt);
+                tv *= seg;
+            }
+            t0 = t1;
+            (l, tv)
+        })
+        .collect()
+}
+
 impl SkyView {
     /// Radiance transfer factor (band radiance per unit solar irradiance,
     /// sr⁻¹) along one view ray from radius `r0` with local direction
@@ -498,19 +590,7 @@ impl SkyView {
         let pos = Vec3::new(0.0, 0.0, r0);
         let mu = view.z;
         let (t_max, ground) = m.ray_end(r0, mu);
-        let cos_theta = view.dot(sun);
-        let pr = rayleigh_phase(cos_theta);
-        let pm = cornette_shanks_phase(m.g, cos_theta);
-        let fwd = luts.forward;
-        // Within the δ-scaled forward cone the aerosol phase function is
-        // flattened (that light already travels in the δ-scaled beam); the
-        // peak above the flat part is single scattering of the true beam.
-        let cone = luts.config.forward_peak_deg.to_radians().cos();
-        let pm_flat = if luts.config.forward_peak_deg > 0.0 && cos_theta > cone {
-            cornette_shanks_phase(m.g, cone)
-        } else {
-            pm
-        };
+        let ScatterPhases { pr, pm, pm_flat } = ScatterPhases::new(luts, view.dot(sun));
         // Fewer steps on short rays: `steps` for the horizontal ray, scaled
         // by √(length / horizontal length), at least 20 (Hillaire 2020 §5
         // also scales the sample count with the ray length).
@@ -527,18 +607,7 @@ impl SkyView {
             let dt = t_next - t_prev;
             let t = 0.5 * (t_prev + t_next);
             t_prev = t_next;
-            let p = pos + view * t;
-            let rp = p.length();
-            let mus = p.dot(sun) / rp;
-            let dens = m.densities(rp);
-            let (sr, sm) = m.scattering(dens);
-            let ext = m.extinction(dens) - fwd * dens.mie;
-            let tsun = luts.scattering_sun_transmittance(rp, mus);
-            let psi = luts.multiscatter_at(rp, mus);
-            let mut src = (sr * pr + sm * pm_flat) * tsun + (sr + sm - fwd * dens.mie) * psi;
-            if pm > pm_flat {
-                src += sm * (pm - pm_flat) * luts.sun_transmittance(rp, mus);
-            }
+            let (ext, src) = ScatterPhases { pr, pm, pm_flat }.source(luts, pos + view * t, sun);
             let seg = (ext * dt).exp_neg();
             l += tv * src * integrate_segment(ext, seg, dt);
             tv *= seg;

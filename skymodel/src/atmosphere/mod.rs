@@ -21,6 +21,6 @@ pub mod medium;
 pub mod params;
 pub mod reference;
 
-pub use lut::{AtmosphereLuts, Lut2, SkyView, SkyViewInput};
+pub use lut::{aerial_perspective, AtmosphereLuts, Lut2, SkyView, SkyViewInput};
 pub use medium::Medium;
 pub use params::{AtmosphereParams, LutConfig, ParamError};

@@ -22,8 +22,12 @@
 //! * [`NightFrame`] ([`night`]) — the exposure, extinction, background,
 //!   point sources and the culling of the night passes;
 //! * [`PixelDirections`] ([`pixels`]) — pixel-centre view directions in
-//!   f32 as the CPU walks the image.
+//!   f32 as the CPU walks the image;
+//! * [`DirectLights`], [`AerialPerspective`] ([`lights`]) — what a 3D
+//!   world receives: the Sun and Moon as directional lights after the
+//!   atmosphere, the sky's horizontal illuminance, the aerial perspective.
 
+pub mod lights;
 pub mod luts;
 pub mod moon;
 pub mod night;
@@ -36,6 +40,7 @@ use std::time::Instant as Clock;
 
 use glam::DVec3;
 
+pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
 pub use luts::{LutOrigin, LutProgress, LutStore};
 pub use moon::MoonFrame;
 pub use night::NightFrame;
@@ -166,6 +171,31 @@ impl FramePlan {
             }
         }
         Ok(self.sky_light.as_ref())
+    }
+
+    /// The Sun and Moon as directional lights and the sky's horizontal
+    /// illuminance of this frame (the sky light computed by `views` on
+    /// first use).
+    pub fn observer_lights(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+        views: &mut dyn SkyViewSource,
+    ) -> Result<ObserverLights, RenderError> {
+        let direct = DirectLights::new(
+            scene,
+            state,
+            self.luts.as_deref(),
+            self.observer_radius_km,
+            self.sky_inputs.as_ref(),
+        );
+        let sky_horizontal_rgb = self
+            .sky_light(views)?
+            .map_or([0.0; 3], lights::sky_horizontal_rgb);
+        Ok(ObserverLights {
+            direct,
+            sky_horizontal_rgb,
+        })
     }
 
     /// The EV100 the frame plan assumed (the night passes' metering or the

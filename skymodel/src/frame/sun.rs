@@ -314,6 +314,7 @@ mod tests {
                 yaw_deg: yaw,
                 pitch_deg: pitch,
                 fov_deg: 90.0,
+                ..Camera::default()
             };
             for (alt, az) in suns {
                 let sun = enu_from_alt_az(f64::to_radians(alt), f64::to_radians(az));

@@ -1,0 +1,43 @@
+//! The error of an invalid scene, naming the field (its own module so
+//! that the scene's parts can report it without importing the scene).
+
+/// An invalid scene, naming the field.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SceneError {
+    /// The field or flag-like path (`observer.lat_deg`, `camera.fov_deg`, …).
+    pub field: String,
+    /// What is wrong and what is accepted.
+    pub message: String,
+}
+
+impl std::fmt::Display for SceneError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}: {}", self.field, self.message)
+    }
+}
+
+impl std::error::Error for SceneError {}
+
+impl SceneError {
+    /// An error of `field`; control characters that came from the input
+    /// (a key or string with a newline) are escaped, so that the message
+    /// stays one printable line.
+    pub fn new(field: &str, message: impl Into<String>) -> Self {
+        SceneError {
+            field: printable(field),
+            message: printable(&message.into()),
+        }
+    }
+}
+
+/// `s` with control characters escaped (`\n`, `\u{1b}`): text taken from
+/// an input and shown in a one-line error.
+pub fn printable(s: &str) -> String {
+    s.chars()
+        .flat_map(|c| {
+            let escaped = c.is_control().then(|| c.escape_default());
+            let plain = (!c.is_control()).then_some(c);
+            escaped.into_iter().flatten().chain(plain)
+        })
+        .collect()
+}

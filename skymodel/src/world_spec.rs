@@ -1,0 +1,294 @@
+//! The scene keys of a 3D world under the sky (`shared/spec/world.md`):
+//! the world file, the fog medium and the lighting passes' settings. The
+//! model of the light itself (the Sun and Moon as directional lights, the
+//! sky as an environment light, the aerial perspective) is in
+//! [`crate::frame::lights`]; the passes are the wgpu backend's.
+
+use serde::{Deserialize, Serialize};
+
+use crate::scene_error::SceneError;
+use crate::units::show;
+
+/// A 3D world under the sky.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorldSpec {
+    /// The glTF 2.0 file (`.gltf` or `.glb`), relative to the scene file.
+    pub gltf: String,
+    /// Adds an infinite Lambertian plane at y = 0 with
+    /// `atmosphere.ground_albedo` (default false).
+    #[serde(default)]
+    pub ground: bool,
+}
+
+/// The phase function of the fog.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase", deny_unknown_fields)]
+pub enum FogPhase {
+    /// Rayleigh scattering, (3/16π)(1 + cos²θ).
+    Rayleigh,
+    /// Isotropic, 1/4π.
+    Isotropic,
+    /// Henyey–Greenstein with asymmetry `g` in (−1, 1).
+    Hg(f64),
+}
+
+/// A homogeneous fog filling y ≤ `top_m` (world.md `fog`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct FogSpec {
+    /// Scattering coefficient σ_s, 1/m, in [0, 10] (default 0.002: a
+    /// meteorological visibility of about 2 km).
+    pub scattering_per_m: f64,
+    /// Absorption coefficient σ_a, 1/m, in [0, 10] (default 0).
+    pub absorption_per_m: f64,
+    /// The phase function (default `{"hg": 0.6}`).
+    pub phase: FogPhase,
+    /// The fog's top, metres above the ground, in [0, 1e5] (default none:
+    /// the fog fills the whole world).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub top_m: Option<f64>,
+}
+
+impl Default for FogSpec {
+    fn default() -> Self {
+        FogSpec {
+            scattering_per_m: 0.002,
+            absorption_per_m: 0.0,
+            phase: FogPhase::Hg(0.6),
+            top_m: None,
+        }
+    }
+}
+
+impl FogSpec {
+    /// The extinction coefficient σ_t = σ_s + σ_a, 1/m.
+    pub fn extinction_per_m(&self) -> f64 {
+        self.scattering_per_m + self.absorption_per_m
+    }
+
+    /// The top of the fog, metres (`f64::INFINITY` without `top_m`).
+    pub fn top(&self) -> f64 {
+        self.top_m.unwrap_or(f64::INFINITY)
+    }
+
+    /// Transmittance of sunlight (or moonlight) at altitude `alt_rad` down
+    /// to height `y_m`: exp(−σ_t · (top − y) / sin h), world.md. 0 when the
+    /// light is at or below the horizon and the point is in the fog; 1 above it.
+    pub fn light_transmittance(&self, y_m: f64, alt_rad: f64) -> f64 {
+        let depth = (self.top() - y_m).max(0.0);
+        if depth == 0.0 {
+            return 1.0;
+        }
+        let s = alt_rad.sin();
+        if s <= 0.0 {
+            return 0.0;
+        }
+        (-self.extinction_per_m() * depth / s).exp()
+    }
+
+    fn validate(&self) -> Result<(), SceneError> {
+        range("fog.scattering_per_m", self.scattering_per_m, 0.0, 10.0)?;
+        range("fog.absorption_per_m", self.absorption_per_m, 0.0, 10.0)?;
+        if let Some(t) = self.top_m {
+            range("fog.top_m", t, 0.0, 1e5)?;
+        }
+        if let FogPhase::Hg(g) = self.phase {
+            if !(g.is_finite() && g > -1.0 && g < 1.0) {
+                return Err(SceneError {
+                    field: "fog.phase.hg".into(),
+                    message: format!("{} is outside (-1, 1)", show(g)),
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// How shadow-map lookups are filtered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShadowFilter {
+    /// One depth comparison per pixel: hard, aliased edges.
+    Off,
+    /// Percentage-closer filtering over a fixed 3×3-texel footprint.
+    Pcf,
+    /// Percentage-closer soft shadows: a blocker search, then a disk filter
+    /// whose width is the light's real angular diameter × the
+    /// blocker–receiver distance (the Sun's 0.53° penumbra).
+    Soft,
+}
+
+/// Directional shadow maps of the Sun and the Moon (`lighting.shadows`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct ShadowSettings {
+    /// Filtering (default `soft`).
+    pub filter: ShadowFilter,
+    /// Side of each cascade's map, texels, in [128, 8192] (default 2048).
+    pub resolution: u32,
+    /// Cascades over the view, in [1, 4] (default 3; fewer are used when
+    /// the world fits in fewer).
+    pub cascades: u32,
+    /// Shadows are drawn up to this distance from the camera, metres, in
+    /// [1, 1e5] (default 500).
+    pub max_distance_m: f64,
+    /// How the view depth range is split between cascades, 0 = uniform,
+    /// 1 = logarithmic, in [0, 1] (default 0.75).
+    pub split_lambda: f64,
+}
+
+impl Default for ShadowSettings {
+    fn default() -> Self {
+        ShadowSettings {
+            filter: ShadowFilter::Soft,
+            resolution: 2048,
+            cascades: 3,
+            max_distance_m: 500.0,
+            split_lambda: 0.75,
+        }
+    }
+}
+
+/// The sky as an environment light (`lighting.sky`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct SkyLightSettings {
+    /// Face size of the sky cube map the environment light is built from,
+    /// texels, in [8, 512] (default 64).
+    pub cube_face: u32,
+    /// Directions over the sphere from which the world's occlusion of the
+    /// sky is sampled (one visibility map each; half of them in the upper
+    /// hemisphere, which alone count over a ground plane), in [8, 256]
+    /// (default 160).
+    pub directions: u32,
+    /// Side of each visibility map, texels, in [64, 4096] (default 512).
+    pub visibility_resolution: u32,
+    /// The environment light is rebuilt when the Sun or Moon moved more
+    /// than this, degrees, in [0, 10] (default 0.05; 0 = every frame).
+    pub reuse_tolerance_deg: f64,
+}
+
+impl Default for SkyLightSettings {
+    fn default() -> Self {
+        SkyLightSettings {
+            cube_face: 64,
+            directions: 160,
+            visibility_resolution: 512,
+            reuse_tolerance_deg: 0.05,
+        }
+    }
+}
+
+/// The lighting passes' settings (`lighting`); each pass documents its keys.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
+#[serde(deny_unknown_fields, default)]
+pub struct LightingSpec {
+    /// The Sun's and Moon's shadow maps.
+    pub shadows: ShadowSettings,
+    /// The sky's environment light and its occlusion by the world.
+    pub sky: SkyLightSettings,
+}
+
+impl LightingSpec {
+    /// Checks every value against its documented range, naming the field.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        let s = &self.shadows;
+        let k = &self.sky;
+        for (f, v, lo, hi) in [
+            (
+                "lighting.shadows.resolution",
+                s.resolution as f64,
+                128.0,
+                8192.0,
+            ),
+            ("lighting.shadows.cascades", s.cascades as f64, 1.0, 4.0),
+            (
+                "lighting.shadows.max_distance_m",
+                s.max_distance_m,
+                1.0,
+                1e5,
+            ),
+            ("lighting.shadows.split_lambda", s.split_lambda, 0.0, 1.0),
+            ("lighting.sky.cube_face", k.cube_face as f64, 8.0, 512.0),
+            ("lighting.sky.directions", k.directions as f64, 8.0, 256.0),
+            (
+                "lighting.sky.visibility_resolution",
+                k.visibility_resolution as f64,
+                64.0,
+                4096.0,
+            ),
+            (
+                "lighting.sky.reuse_tolerance_deg",
+                k.reuse_tolerance_deg,
+                0.0,
+                10.0,
+            ),
+        ] {
+            range(f, v, lo, hi)?;
+        }
+        Ok(())
+    }
+}
+
+/// Validates the fog, if any.
+pub fn validate_fog(fog: &Option<FogSpec>) -> Result<(), SceneError> {
+    fog.as_ref().map_or(Ok(()), FogSpec::validate)
+}
+
+fn range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(SceneError {
+            field: field.into(),
+            message: format!("{} is outside [{}, {}]", show(v), show(lo), show(hi)),
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fog_phase_reads_all_three_forms() {
+        for (text, want) in [
+            (r#""rayleigh""#, FogPhase::Rayleigh),
+            (r#""isotropic""#, FogPhase::Isotropic),
+            (r#"{"hg": 0.6}"#, FogPhase::Hg(0.6)),
+        ] {
+            let p: FogPhase = serde_json::from_str(text).unwrap();
+            assert_eq!(p, want);
+        }
+        assert!(serde_json::from_str::<FogPhase>(r#""mie""#).is_err());
+    }
+
+    #[test]
+    fn sunlight_through_fog_follows_the_slant_path() {
+        let f = FogSpec {
+            scattering_per_m: 0.01,
+            absorption_per_m: 0.0,
+            phase: FogPhase::Isotropic,
+            top_m: Some(50.0),
+        };
+        // 50 m of fog at 30°: a 100 m slant path.
+        let t = f.light_transmittance(0.0, 30f64.to_radians());
+        assert!((t - (-1.0f64).exp()).abs() < 1e-12);
+        assert_eq!(f.light_transmittance(60.0, 0.1), 1.0);
+        assert_eq!(f.light_transmittance(10.0, -0.1), 0.0);
+    }
+
+    #[test]
+    fn ranges_name_their_fields() {
+        let mut l = LightingSpec::default();
+        assert!(l.validate().is_ok());
+        l.shadows.cascades = 9;
+        assert_eq!(l.validate().unwrap_err().field, "lighting.shadows.cascades");
+        let f = FogSpec {
+            phase: FogPhase::Hg(1.0),
+            ..FogSpec::default()
+        };
+        assert_eq!(validate_fog(&Some(f)).unwrap_err().field, "fog.phase.hg");
+    }
+}
