@@ -9,7 +9,8 @@ mod ephemeris_cmd;
 mod events_cmd;
 mod render_cmd;
 mod stars_cmd;
-mod timearg;
+
+use himmel_cli::timearg;
 
 use std::process::ExitCode;
 
@@ -149,7 +150,10 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             if !e.message.is_empty() {
-                eprintln!("error: {}", e.message.replace('\n', " "));
+                // One line, and no control character from an input reaches
+                // the terminal.
+                let one_line = e.message.replace('\n', " ");
+                eprintln!("error: {}", himmel_cli::inputs::printable(&one_line));
             }
             ExitCode::from(e.code)
         }
