@@ -330,11 +330,13 @@ impl Scene {
     /// The default scene with a world, its camera, a fog and every lighting
     /// key at its default (`himmel scene-template --world`).
     pub fn template_world_json() -> String {
-        let mut s = Scene::default();
-        s.world = Some(WorldSpec {
-            gltf: "world.glb".into(),
-            ground: true,
-        });
+        let mut s = Scene {
+            world: Some(WorldSpec {
+                gltf: "world.glb".into(),
+                ground: true,
+            }),
+            ..Scene::default()
+        };
         s.camera.projection = crate::Projection::Perspective;
         s.camera.width = 1280;
         s.camera.height = 720;
