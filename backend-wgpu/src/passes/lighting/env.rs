@@ -18,6 +18,9 @@
 //!   with the GGX lobe at five roughnesses (split-sum, Karis 2013), and the
 //!   split-sum BRDF table ([`brdf_lut`]).
 
+// Channel loops index several arrays at once; indices read better there.
+#![allow(clippy::needless_range_loop)]
+
 use glam::Vec3;
 use himmel_skymodel::projection::scene_from_enu;
 use himmel_skymodel::renderer::HdrImage;

@@ -179,7 +179,7 @@ impl LightingPasses {
         Ok(stats)
     }
 
-    /// 1. The G-buffer (and the ground plane under the eye).
+    /// Step 1: the G-buffer (and the ground plane under the eye).
     fn gbuffer_step(
         &mut self,
         gpu: &Gpu,
@@ -212,7 +212,7 @@ impl LightingPasses {
         Ok(stat("world/gbuffer", true, Some(ms(t)), None))
     }
 
-    /// 2. The sky's visibility maps, kept while the world and the cells'
+    /// Step 2: the sky's visibility maps, kept while the world and the cells'
     /// directions do not change.
     fn visibility_step(
         &mut self,
@@ -251,7 +251,7 @@ impl LightingPasses {
         Ok(stat("world/sky-visibility", true, Some(ms(t)), None))
     }
 
-    /// 3. The Sun's and Moon's cascades, kept while the lights, the camera
+    /// Step 3: the Sun's and Moon's cascades, kept while the lights, the camera
     /// and the world do not move.
     fn shadow_step(
         &mut self,
@@ -325,7 +325,7 @@ impl LightingPasses {
         Ok(Some(stat("shadows", true, Some(ms(t)), None)))
     }
 
-    /// 4. The lighting pass into the target.
+    /// Step 4: the lighting pass into the target.
     fn lighting_step(
         &mut self,
         gpu: &Gpu,

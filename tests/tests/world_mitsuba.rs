@@ -1,0 +1,131 @@
+//! The wgpu world renderer against Mitsuba 3 (issue 14): each case of
+//! `tools/world_cases.json` — the three procedural worlds at a high Sun, a
+//! low Sun and a moonlit night — rendered here on the adapter at hand
+//! (lavapipe in CI) and compared with the path-traced reference of
+//! `tests/fixtures/world_ref/` (direct light: Sun or Moon + sky, shadows):
+//!
+//! * the luminance-weighted mean relative error Σ|ΔY| / ΣY_ref over the
+//!   directly lit pixels and over the sky-lit-only (shadowed) pixels of
+//!   the reference's masks;
+//! * FLIP (`nv-flip`) of the tone-mapped images.
+//!
+//! `cargo test -p himmel-tests --test world_mitsuba -- --nocapture` prints
+//! the table the README quotes. The bounds below are what this version
+//! achieves (the issue's goals are 3 % lit, 5 % sky-lit, FLIP 0.05;
+//! see the README for where the sky-lit error comes from): a change that
+//! makes any case worse fails.
+
+mod wgpu_common;
+mod world_common;
+
+use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState, WorldSpec};
+use serde_json::Value;
+use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage};
+use world_common::metrics::{SKYLIT, SUNLIT};
+
+fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn triple(v: &Value) -> [f64; 3] {
+    [0, 1, 2].map(|k| v[k].as_f64().expect("a number"))
+}
+
+/// The scene of a case (as its `himmel_args`).
+fn case_scene(c: &Value) -> Scene {
+    let mut s = Scene::default();
+    s.time.utc = c["time"].as_str().unwrap().into();
+    s.observer.lat_deg = c["lat"].as_f64().unwrap();
+    s.observer.lon_deg = c["lon"].as_f64().unwrap();
+    s.observer.elevation_m = c["elevation_m"].as_f64().unwrap_or(0.0);
+    let cam = &c["camera"];
+    s.camera.projection = Projection::Perspective;
+    s.camera.width = cam["width"].as_u64().unwrap() as u32;
+    s.camera.height = cam["height"].as_u64().unwrap() as u32;
+    s.camera.fov_deg = cam["fov_deg"].as_f64().unwrap();
+    s.camera.position_m = Some(triple(&cam["position_m"]));
+    s.camera.look_at_m = Some(triple(&cam["look_at_m"]));
+    s.camera.up = Some(triple(&cam["up"]));
+    s.effects = vec![
+        Effect::Atmosphere,
+        Effect::Sun,
+        Effect::Moon,
+        Effect::Stars,
+        Effect::Planets,
+        Effect::Milkyway,
+        Effect::World,
+        Effect::Shadows,
+    ];
+    s.atmosphere.ground_albedo = c["ground_albedo"].as_f64().unwrap_or(0.3) as _;
+    s.world = Some(WorldSpec {
+        gltf: c["world"].as_str().unwrap().into(),
+        ground: c["ground"].as_bool().unwrap_or(false),
+    });
+    s
+}
+
+/// (case, lit error, sky-lit error, FLIP).
+fn measure(c: &Value) -> (String, f64, f64, f64) {
+    let name = c["name"].as_str().unwrap().to_string();
+    let s = case_scene(c);
+    let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
+    let state = SkyState::at(&s).unwrap();
+    let out = {
+        let mut r = wgpu_common::gpu();
+        r.set_world(&world);
+        r.render(&s, &state).unwrap()
+    };
+    if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
+        let p = std::path::Path::new(&d).join(format!("{name}.exr"));
+        himmel_cpu::output::write_exr(&p, &out.image).unwrap();
+    }
+    let img = RgbImage {
+        width: out.image.width,
+        height: out.image.height,
+        pixels: out.image.pixels,
+    };
+    let dir = root().join("tests/fixtures/world_ref");
+    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
+    let mask = read_exr(dir.join(format!("{name}_mask.exr"))).unwrap();
+    let lit = mean_relative_error(&img, &reference, &mask_channel(&mask, SUNLIT));
+    let sky = mean_relative_error(&img, &reference, &mask_channel(&mask, SKYLIT));
+    let f = flip(&img, &reference, None);
+    (name, lit, sky, f)
+}
+
+#[test]
+fn worlds_against_mitsuba() {
+    let cases: Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("tools/world_cases.json")).unwrap(),
+    )
+    .unwrap();
+    // What this version achieves per case, with a margin (lit, sky-lit,
+    // FLIP); night cases wait for references with the moonlit sky.
+    let bounds = |name: &str| -> Option<(f64, f64, f64)> {
+        match name {
+            "sun_room_high" => Some((0.02, 0.22, 0.15)),
+            "sun_room_low" => Some((0.06, 0.40, 0.15)),
+            "atrium_high" => Some((0.02, 0.15, 0.15)),
+            "atrium_low" => Some((0.06, 0.15, 0.15)),
+            "plane_and_boxes_high" | "plane_and_boxes_low" => Some((0.03, 0.15, 0.15)),
+            _ => None,
+        }
+    };
+    println!("| case | lit pixels | sky-lit pixels | FLIP |");
+    println!("|---|---|---|---|");
+    let mut failures = Vec::new();
+    let only = std::env::var("HIMMEL_WORLD_CASE").ok();
+    for c in cases["cases"].as_array().unwrap() {
+        if only.as_deref().is_some_and(|o| c["name"] != o) {
+            continue;
+        }
+        let (name, lit, sky, f) = measure(c);
+        println!("| {name} | {:.2} % | {:.2} % | {f:.3} |", lit * 100.0, sky * 100.0);
+        if let Some((bl, bs, bf)) = bounds(&name) {
+            if !(lit <= bl && sky <= bs && f <= bf) {
+                failures.push(format!("{name}: lit {lit:.4} (≤ {bl}), sky-lit {sky:.4} (≤ {bs}), FLIP {f:.3} (≤ {bf})"));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
