@@ -171,8 +171,15 @@ pub struct TimeSpec {
     pub utc: String,
     /// Time speed for animations: simulated seconds per real second, in
     /// [−1e9, 1e9] (about ±32 years per second; negative runs backwards)
-    /// (default 1).
+    /// (default 1). In a frame sequence it multiplies the time step
+    /// (`crate::sequence`).
     pub speed: f64,
+    /// Fraction of the day F in [0, 1): when given, the instant is local
+    /// apparent solar time F × 24 h (0.25 = 06:00, 0.5 = the Sun on the
+    /// meridian) on the local date of `utc` at the observer's longitude
+    /// (`crate::solar_time`) (default none: `utc` itself).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub day_fraction: Option<f64>,
 }
 
 impl Default for TimeSpec {
@@ -180,6 +187,7 @@ impl Default for TimeSpec {
         TimeSpec {
             utc: "now".into(),
             speed: 1.0,
+            day_fraction: None,
         }
     }
 }
@@ -402,6 +410,14 @@ impl Scene {
         }
         if let Exposure::Ev100(v) = self.exposure {
             check_range("exposure", v, -30.0, 40.0)?;
+        }
+        if let Some(f) = t.day_fraction {
+            if !(f.is_finite() && (0.0..1.0).contains(&f)) {
+                return Err(SceneError::new(
+                    "time.day_fraction",
+                    format!("{} is outside [0, 1) (0.25 = apparent solar 06:00)", show(f)),
+                ));
+            }
         }
         if himmel_astro::Precision::from_name(&self.precision).is_none() {
             return Err(SceneError::new(
