@@ -41,6 +41,7 @@ pub mod pass;
 pub mod passes;
 pub mod pool;
 pub mod uniforms;
+pub mod world_frame;
 
 use std::path::PathBuf;
 use std::time::Instant as Clock;
@@ -93,6 +94,10 @@ pub struct WgpuRenderer {
     pool: BufferPool,
     /// The lighting passes' per-pixel buffers, kept across frames.
     gbuffer: GBufferSlots,
+    /// The lighting passes of 3D worlds and their world.
+    lighting: passes::lighting::LightingPasses,
+    /// The sky's environment light of the last world frame.
+    env: Option<world_frame::EnvCache>,
 }
 
 impl std::fmt::Debug for WgpuRenderer {
@@ -139,6 +144,8 @@ impl WgpuRenderer {
             max_band_bytes: None,
             pool: BufferPool::default(),
             gbuffer: GBufferSlots::default(),
+            lighting: Default::default(),
+            env: None,
         })
     }
 
@@ -373,7 +380,31 @@ impl WgpuRenderer {
             return Err(RenderError::Device(e.to_string()));
         }
         stats.extend(PassStat::moon_eclipse(state));
-        let lights = self.observer_lights(scene, state, &mut plan)?;
+        let mut lights = self.observer_lights(scene, state, &mut plan)?;
+        if scene.world.is_some() && plan.runs(Effect::World) {
+            let world_stats = self.render_world(scene, state, &plan, &lights, &target)?;
+            // The sky light the world received, from its own cube map.
+            if let Some(env) = self.env_light() {
+                lights.sky_horizontal_rgb = env.horizontal_rgb;
+            }
+            let world_ms: f64 = world_stats
+                .iter()
+                .filter(|s| s.name.starts_with("world/"))
+                .filter_map(|s| s.ms)
+                .sum();
+            for s in stats.iter_mut() {
+                match s.name.as_str() {
+                    "world" => s.ms = Some(world_ms),
+                    "shadows" => {
+                        if let Some(w) = world_stats.iter().find(|w| w.name == "shadows") {
+                            *s = w.clone();
+                        }
+                    }
+                    _ => {}
+                }
+            }
+            stats.extend(world_stats.into_iter().filter(|s| s.name != "shadows"));
+        }
         Ok(GpuFrame {
             texture: target,
             width: layout.width,
@@ -478,6 +509,9 @@ impl WgpuRenderer {
                         add(s);
                     }
                 }
+                // The world and its shadows are drawn after the sky
+                // (world_frame.rs).
+                Effect::World | Effect::Shadows => {}
                 other => {
                     // `--backend auto` then falls back to the CPU.
                     return Err(RenderError::Unavailable(Unavailable::PassNotPorted(other)));

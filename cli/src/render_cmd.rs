@@ -360,26 +360,22 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let scene = build_scene(a)?;
-    if let Some(world) = load_world(a, &scene)? {
-        // World rendering belongs to the wgpu backend (world.md), whose
-        // world passes are not in this version yet.
-        let msg = if backend == "cpu" {
-            "--backend cpu cannot render a 3D world; use --backend wgpu".to_string()
-        } else {
-            format!(
-                "--backend {backend}: rendering 3D worlds is not available in this version yet (the world loaded: {} triangles, {} materials)",
-                world.triangles(),
-                world.materials.len()
-            )
-        };
+    let t_world = Clock::now();
+    let world = load_world(a, &scene)?;
+    let world_load_ms = t_world.elapsed().as_secs_f64() * 1e3;
+    if world.is_some() && backend == "cpu" {
+        // World rendering belongs to the wgpu backend (world.md).
         return Err(CliError {
             code: 3,
-            message: msg,
+            message: "--backend cpu cannot render a 3D world; use --backend wgpu".into(),
         });
     }
     let state = SkyState::at(&scene).map_err(|e| scene_error(a, e))?;
     let t_init = Clock::now();
-    let (mut renderer, mut timing) = make_renderer(backend)?;
+    let (mut renderer, mut timing) = match &world {
+        Some(w) => make_world_renderer(backend, w)?,
+        None => make_renderer(backend)?,
+    };
     let init_ms = t_init.elapsed().as_secs_f64() * 1e3;
     let t_render = Clock::now();
     let out = match renderer.render(&scene, &state) {
@@ -450,6 +446,11 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
                 "direct_rgb": sun_direct.1,
             },
             "moon": moon_stats(&state.moon, direct_stats(out.lights.direct.moon.as_ref())),
+            "world": world.as_ref().map(|w| json!({
+                "triangles": w.triangles(),
+                "materials": w.materials.len(),
+                "load_ms": world_load_ms,
+            })),
             "sky": {
                 "horizontal_illuminance_lux": himmel_skymodel::frame::lights::luminance(out.lights.sky_horizontal_rgb),
                 "horizontal_rgb": out.lights.sky_horizontal_rgb,
@@ -504,6 +505,34 @@ fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), 
         Err(e) => Err(CliError {
             code: 3,
             message: format!("--backend wgpu: {e}; use --backend cpu (or auto) instead"),
+        }),
+    }
+}
+
+/// The wgpu renderer with `world` uploaded (worlds are the wgpu backend's,
+/// world.md): without an adapter `wgpu` and `auto` exit 3 alike, as there
+/// is no CPU fallback for a world.
+fn make_world_renderer(
+    backend: &str,
+    world: &himmel_world::World,
+) -> Result<(Box<dyn SkyRenderer>, &'static str), CliError> {
+    if std::env::var_os("NODEVICE_SELECT").is_none() {
+        std::env::set_var("NODEVICE_SELECT", "1");
+    }
+    match himmel_wgpu::WgpuRenderer::new(himmel_cpu::default_cache_dir()) {
+        Ok(mut r) => {
+            r.set_progress(Some(std::sync::Arc::new(
+                himmel_cpu::TerminalProgress::default(),
+            )));
+            r.set_world(world);
+            let timing = r.timing().name();
+            Ok((Box::new(r), timing))
+        }
+        Err(e) => Err(CliError {
+            code: 3,
+            message: format!(
+                "--backend {backend}: {e}; 3D worlds need a wgpu adapter (lavapipe serves without a GPU)"
+            ),
         }),
     }
 }

@@ -14,6 +14,8 @@ pub enum RenderError {
     PassNotAvailable(Effect),
     /// The GPU driver reported an error (its message).
     Device(String),
+    /// The scene has a world (`world.gltf`) but the renderer was given none.
+    WorldMissing,
 }
 
 /// Why a backend cannot render a frame.
@@ -76,6 +78,9 @@ impl std::fmt::Display for RenderError {
                 write!(f, "the {} pass is not available in this version", e.name())
             }
             RenderError::Device(m) => write!(f, "wgpu: {m}"),
+            RenderError::WorldMissing => {
+                f.write_str("the scene has a 3D world but the renderer was given none (set_world)")
+            }
         }
     }
 }

@@ -158,7 +158,9 @@ pub struct SkyLightSettings {
     /// texels, in [8, 512] (default 64).
     pub cube_face: u32,
     /// Directions over the sphere from which the world's occlusion of the
-    /// sky is sampled (one visibility map each), in [8, 1024] (default 160).
+    /// sky is sampled (one visibility map each; half of them in the upper
+    /// hemisphere, which alone count over a ground plane), in [8, 256]
+    /// (default 160).
     pub directions: u32,
     /// Side of each visibility map, texels, in [64, 4096] (default 512).
     pub visibility_resolution: u32,
@@ -209,7 +211,7 @@ impl LightingSpec {
             ),
             ("lighting.shadows.split_lambda", s.split_lambda, 0.0, 1.0),
             ("lighting.sky.cube_face", k.cube_face as f64, 8.0, 512.0),
-            ("lighting.sky.directions", k.directions as f64, 8.0, 1024.0),
+            ("lighting.sky.directions", k.directions as f64, 8.0, 256.0),
             (
                 "lighting.sky.visibility_resolution",
                 k.visibility_resolution as f64,

@@ -1,0 +1,417 @@
+//! The sky as an environment light, built on the CPU from the frame's own
+//! sky cube map (the sky passes without the Sun and Moon disks, which light
+//! the world as directional lights):
+//!
+//! * **occludable diffuse light** — the sphere is cut into cells around a
+//!   set of directions (one visibility map each, [`super::shadow`]); each
+//!   cell keeps the first moment of its radiance, M = ∫ L ω dω per colour
+//!   channel, so that a surface of normal n facing the whole cell receives
+//!   exactly n·M from it. The lighting pass sums max(0, n·M) × the cell's
+//!   visibility from the surface point, so a floor under a roof or a room
+//!   behind a window sees only the sky that is left open. The upper and
+//!   lower hemispheres have cells of their own, so no cell straddles the
+//!   horizon: a horizontal surface open to the sky receives the sky's
+//!   horizontal illuminance to the cube map's quadrature.
+//! * **SH9 irradiance** (Ramamoorthi & Hanrahan 2001), unoccluded, for the
+//!   API and the checks;
+//! * **prefiltered specular** — equirect maps of the radiance convolved
+//!   with the GGX lobe at five roughnesses (split-sum, Karis 2013), and the
+//!   split-sum BRDF table ([`brdf_lut`]).
+
+use glam::Vec3;
+use himmel_skymodel::projection::scene_from_enu;
+use himmel_skymodel::renderer::HdrImage;
+use himmel_skymodel::{Camera, Projection};
+
+/// Roughness levels of the prefiltered maps.
+pub const SPECULAR_LEVELS: usize = 5;
+/// Size of each prefiltered equirect map (W × H).
+pub const SPECULAR_SIZE: (usize, usize) = (64, 32);
+/// Size of the split-sum BRDF table (N·V × roughness).
+pub const BRDF_LUT_SIZE: usize = 32;
+
+/// One cell of the sky's occludable light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SkyCell {
+    /// The cell's direction (world frame, unit): its visibility map looks
+    /// along it.
+    pub dir: Vec3,
+    /// ∫ L ω dω over the cell per channel (rows R, G, B), cd/m² · sr.
+    pub moment: [Vec3; 3],
+    /// ∫ L dω over the cell, per channel (cd/m² · sr).
+    pub power: [f32; 3],
+    /// The cell's solid angle, sr.
+    pub solid_angle: f32,
+}
+
+/// The sky's environment light of one instant.
+#[derive(Debug, Clone)]
+pub struct EnvLight {
+    /// The occludable cells, upper hemisphere first.
+    pub cells: Vec<SkyCell>,
+    /// SH9 coefficients of the radiance, per channel (order l ≤ 2).
+    pub sh9: [[f32; 9]; 3],
+    /// Horizontal illuminance from the upper hemisphere, linear sRGB lux.
+    pub horizontal_rgb: [f64; 3],
+    /// Prefiltered radiance, [`SPECULAR_LEVELS`] equirect maps of
+    /// [`SPECULAR_SIZE`] (row-major, world-frame azimuth from North through
+    /// East across, zenith at the top), cd/m².
+    pub specular: Vec<[f32; 3]>,
+    /// The largest radiance in the cube map, cd/m².
+    pub max_radiance: f32,
+}
+
+/// A cube-map texel: direction (world frame), solid angle, radiance.
+fn cube_texels(cube: &HdrImage) -> Vec<(Vec3, f32, [f32; 3])> {
+    let h = cube.height as u32;
+    let cam = Camera {
+        projection: Projection::Cubemap,
+        width: h,
+        height: h,
+        ..Camera::default()
+    };
+    let mut out = Vec::with_capacity(cube.pixels.len());
+    for y in 0..cube.height {
+        for x in 0..cube.width {
+            let (px, py) = (x as f64 + 0.5, y as f64 + 0.5);
+            let Some(d) = cam.pixel_to_dir(px, py) else {
+                continue;
+            };
+            let w = scene_from_enu(d).as_vec3().normalize();
+            let sa = cam.pixel_solid_angle(px, py) as f32;
+            out.push((w, sa, cube.pixels[y * cube.width + x]));
+        }
+    }
+    out
+}
+
+/// The unit direction of an equirect texel centre (world frame): column =
+/// azimuth from North (−z) through East (+x), row 0 at the zenith.
+pub fn equirect_dir(i: usize, j: usize, w: usize, h: usize) -> Vec3 {
+    let az = std::f32::consts::TAU * (i as f32 + 0.5) / w as f32;
+    let alt = std::f32::consts::FRAC_PI_2 - std::f32::consts::PI * (j as f32 + 0.5) / h as f32;
+    Vec3::new(alt.cos() * az.sin(), alt.sin(), -alt.cos() * az.cos())
+}
+
+/// GGX normal distribution for perceptual roughness `r` (α = r²).
+fn ggx_d(n_h: f32, r: f32) -> f32 {
+    let a2 = (r * r).max(1e-4).powi(2);
+    let d = n_h * n_h * (a2 - 1.0) + 1.0;
+    a2 / (std::f32::consts::PI * d * d)
+}
+
+/// The roughness of prefiltered level `k`.
+pub fn level_roughness(k: usize) -> f32 {
+    k as f32 / (SPECULAR_LEVELS - 1) as f32
+}
+
+impl EnvLight {
+    /// Builds the environment light from a sky cube map (6H × H strip,
+    /// faces in the scene frame's order) with cells around `dirs` (the
+    /// upper-hemisphere directions have y > 0; a texel belongs to the
+    /// nearest direction of its own hemisphere, or is dropped when its
+    /// hemisphere has none).
+    pub fn from_cube(cube: &HdrImage, dirs: &[Vec3]) -> EnvLight {
+        let texels = cube_texels(cube);
+        let mut cells: Vec<SkyCell> = dirs
+            .iter()
+            .map(|&dir| SkyCell {
+                dir,
+                moment: [Vec3::ZERO; 3],
+                power: [0.0; 3],
+                solid_angle: 0.0,
+            })
+            .collect();
+        let mut sh9 = [[0.0f32; 9]; 3];
+        let mut horizontal = [0.0f64; 3];
+        let mut max_radiance = 0.0f32;
+        for &(w, sa, l) in &texels {
+            max_radiance = max_radiance.max(l[0].max(l[1]).max(l[2]));
+            let up = w.y >= 0.0;
+            let best = cells
+                .iter()
+                .enumerate()
+                .filter(|(_, c)| (c.dir.y > 0.0) == up)
+                .max_by(|a, b| w.dot(a.1.dir).total_cmp(&w.dot(b.1.dir)))
+                .map(|(k, _)| k);
+            if let Some(k) = best {
+                let c = &mut cells[k];
+                for ch in 0..3 {
+                    c.moment[ch] += w * (l[ch] * sa);
+                    c.power[ch] += l[ch] * sa;
+                }
+                c.solid_angle += sa;
+            }
+            let basis = sh9_basis(w);
+            for ch in 0..3 {
+                for (k, b) in basis.iter().enumerate() {
+                    sh9[ch][k] += l[ch] * b * sa;
+                }
+                if up {
+                    horizontal[ch] += (l[ch] * w.y * sa) as f64;
+                }
+            }
+        }
+        let specular = prefilter(&texels, cube.height);
+        EnvLight {
+            cells,
+            sh9,
+            horizontal_rgb: horizontal,
+            specular,
+            max_radiance,
+        }
+    }
+
+    /// Unoccluded irradiance on a surface of unit normal `n` from the SH9
+    /// coefficients (cosine lobe convolution), linear sRGB lux.
+    pub fn sh9_irradiance(&self, n: Vec3) -> [f32; 3] {
+        let a = [
+            std::f32::consts::PI,
+            2.0 * std::f32::consts::PI / 3.0,
+            2.0 * std::f32::consts::PI / 3.0,
+            2.0 * std::f32::consts::PI / 3.0,
+            std::f32::consts::PI / 4.0,
+            std::f32::consts::PI / 4.0,
+            std::f32::consts::PI / 4.0,
+            std::f32::consts::PI / 4.0,
+            std::f32::consts::PI / 4.0,
+        ];
+        let b = sh9_basis(n);
+        [0, 1, 2].map(|ch| {
+            (0..9)
+                .map(|k| a[k] * self.sh9[ch][k] * b[k])
+                .sum::<f32>()
+                .max(0.0)
+        })
+    }
+
+    /// Irradiance on a surface of unit normal `n` that sees every cell
+    /// whose visibility is given by `visible` (the lighting pass's sum).
+    pub fn cell_irradiance(&self, n: Vec3, visible: impl Fn(usize) -> f32) -> [f32; 3] {
+        let mut e = [0.0f32; 3];
+        for (k, c) in self.cells.iter().enumerate() {
+            let v = visible(k);
+            for ch in 0..3 {
+                e[ch] += v * n.dot(c.moment[ch]).max(0.0);
+            }
+        }
+        e
+    }
+}
+
+/// The nine real SH basis functions (l ≤ 2) at unit `d`.
+pub fn sh9_basis(d: Vec3) -> [f32; 9] {
+    let (x, y, z) = (d.x, d.y, d.z);
+    [
+        0.282_095,
+        0.488_603 * y,
+        0.488_603 * z,
+        0.488_603 * x,
+        1.092_548 * x * y,
+        1.092_548 * y * z,
+        0.315_392 * (3.0 * z * z - 1.0),
+        1.092_548 * x * z,
+        0.546_274 * (x * x - y * y),
+    ]
+}
+
+/// The prefiltered maps: for each level's roughness r and output direction
+/// R (taken as normal and view, the split-sum assumption), Σ L D(n·h) (n·ω)
+/// / Σ D (n·ω) over a 16²-per-face reduction of the cube map; level 0 is
+/// the radiance itself at the map's resolution.
+fn prefilter(texels: &[(Vec3, f32, [f32; 3])], face: usize) -> Vec<[f32; 3]> {
+    // Reduce the cube to ≤ 16 × 16 per face: merge texels by block.
+    let k = (face / 16).max(1);
+    let reduced = reduce(texels, face, k);
+    let (w, h) = SPECULAR_SIZE;
+    let mut out = Vec::with_capacity(SPECULAR_LEVELS * w * h);
+    for level in 0..SPECULAR_LEVELS {
+        let r = level_roughness(level).max(0.08);
+        for j in 0..h {
+            for i in 0..w {
+                let n = equirect_dir(i, j, w, h);
+                let (mut acc, mut wsum) = ([0.0f32; 3], 0.0f32);
+                let src: &[(Vec3, f32, [f32; 3])] = if level == 0 { texels } else { &reduced };
+                for &(d, sa, l) in src {
+                    let c = n.dot(d);
+                    if c <= 0.0 {
+                        continue;
+                    }
+                    let hv = (n + d).normalize();
+                    let wgt = if level == 0 {
+                        // A narrow lobe (≈ 3°) for the mirror level.
+                        (-(1.0 - c) / 1.5e-3).exp() * sa
+                    } else {
+                        ggx_d(n.dot(hv), r) * c * sa
+                    };
+                    for ch in 0..3 {
+                        acc[ch] += l[ch] * wgt;
+                    }
+                    wsum += wgt;
+                }
+                out.push(if wsum > 0.0 {
+                    acc.map(|a| a / wsum)
+                } else {
+                    [0.0; 3]
+                });
+            }
+        }
+    }
+    out
+}
+
+/// Merges k × k blocks of texels of each face (power-weighted direction,
+/// summed solid angle, mean radiance).
+fn reduce(texels: &[(Vec3, f32, [f32; 3])], face: usize, k: usize) -> Vec<(Vec3, f32, [f32; 3])> {
+    let n = face.div_ceil(k);
+    let mut cells = vec![(Vec3::ZERO, 0.0f32, [0.0f32; 3]); 6 * n * n];
+    let width = 6 * face;
+    for (idx, &(d, sa, l)) in texels.iter().enumerate() {
+        let (x, y) = (idx % width, idx / width);
+        let (f, fx) = (x / face, x % face);
+        let c = &mut cells[f * n * n + (y / k) * n + fx / k];
+        c.0 += d * sa;
+        c.1 += sa;
+        for ch in 0..3 {
+            c.2[ch] += l[ch] * sa;
+        }
+    }
+    cells
+        .into_iter()
+        .filter(|c| c.1 > 0.0)
+        .map(|(d, sa, l)| (d.normalize(), sa, l.map(|v| v / sa)))
+        .collect()
+}
+
+/// The split-sum BRDF table (Karis 2013): for N·V (across) and perceptual
+/// roughness (down), the scale A and bias B of F0 in ∫ f cos dω = F0·A + B
+/// for GGX with the height-correlated Smith term, by importance sampling
+/// (256 Hammersley samples per entry).
+pub fn brdf_lut() -> Vec<[f32; 2]> {
+    let n = BRDF_LUT_SIZE;
+    let mut out = Vec::with_capacity(n * n);
+    for j in 0..n {
+        let r = ((j as f32 + 0.5) / n as f32).max(0.02);
+        let a = r * r;
+        for i in 0..n {
+            let nv = ((i as f32 + 0.5) / n as f32).max(1e-3);
+            let v = Vec3::new((1.0 - nv * nv).sqrt(), 0.0, nv);
+            let (mut sa, mut sb) = (0.0f32, 0.0f32);
+            let samples = 256u32;
+            for s in 0..samples {
+                let (u1, u2) = (
+                    (s as f32 + 0.5) / samples as f32,
+                    s.reverse_bits() as f32 / 4_294_967_296.0,
+                );
+                let phi = std::f32::consts::TAU * u2;
+                let ct = ((1.0 - u1) / (1.0 + (a * a - 1.0) * u1)).sqrt();
+                let st = (1.0 - ct * ct).max(0.0).sqrt();
+                let hv = Vec3::new(st * phi.cos(), st * phi.sin(), ct);
+                let l = 2.0 * v.dot(hv) * hv - v;
+                let (nl, nh, vh) = (l.z, hv.z, v.dot(hv));
+                if nl <= 0.0 {
+                    continue;
+                }
+                let g = smith_g2(nv, nl, a);
+                let gv = g * vh / (nh * nv);
+                let fc = (1.0 - vh).powi(5);
+                sa += (1.0 - fc) * gv;
+                sb += fc * gv;
+            }
+            out.push([sa / samples as f32, sb / samples as f32]);
+        }
+    }
+    out
+}
+
+/// The height-correlated Smith masking–shadowing G2 for GGX (α = `a`).
+fn smith_g2(nv: f32, nl: f32, a: f32) -> f32 {
+    let a2 = a * a;
+    let lv = nl * (nv * nv * (1.0 - a2) + a2).sqrt();
+    let ll = nv * (nl * nl * (1.0 - a2) + a2).sqrt();
+    2.0 * nv * nl / (lv + ll)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::passes::lighting::view::hemisphere_directions;
+    use glam::DVec3;
+
+    fn cube(face: usize, f: impl Fn(Vec3) -> [f32; 3]) -> HdrImage {
+        let cam = Camera {
+            projection: Projection::Cubemap,
+            width: face as u32,
+            height: face as u32,
+            ..Camera::default()
+        };
+        let (w, h) = (6 * face, face);
+        let mut pixels = Vec::with_capacity(w * h);
+        for y in 0..h {
+            for x in 0..w {
+                let d = cam
+                    .pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5)
+                    .unwrap_or(DVec3::Z);
+                pixels.push(f(scene_from_enu(d).as_vec3()));
+            }
+        }
+        HdrImage {
+            width: w,
+            height: h,
+            pixels,
+            valid: vec![true; w * h],
+        }
+    }
+
+    /// A uniform sky of radiance L over the upper hemisphere (black below)
+    /// gives π L on a horizontal surface by every route: the cells, SH9
+    /// (to its ringing), and the horizontal sum.
+    #[test]
+    fn uniform_sky_gives_pi_l() {
+        let c = cube(32, |d| {
+            if d.y >= 0.0 {
+                [1000.0, 1000.0, 1000.0]
+            } else {
+                [0.0; 3]
+            }
+        });
+        let env = EnvLight::from_cube(&c, &hemisphere_directions(40, true));
+        let want = std::f32::consts::PI * 1000.0;
+        let e = env.cell_irradiance(Vec3::Y, |_| 1.0);
+        assert!((e[1] / want - 1.0).abs() < 2e-3, "{e:?}");
+        assert!((env.horizontal_rgb[1] as f32 / want - 1.0).abs() < 2e-3);
+        // A wall sees half of the sky hemisphere: π L / 2.
+        let wall = env.cell_irradiance(Vec3::X, |_| 1.0);
+        assert!((wall[1] / (want / 2.0) - 1.0).abs() < 0.03, "{wall:?}");
+        // SH9 of a hemisphere step rings; the horizontal value within 5 %.
+        let sh = env.sh9_irradiance(Vec3::Y);
+        assert!((sh[1] / want - 1.0).abs() < 0.05, "{sh:?}");
+        // Nothing visible: nothing received.
+        assert_eq!(env.cell_irradiance(Vec3::Y, |_| 0.0), [0.0; 3]);
+        // The prefiltered maps of a uniform hemisphere are L at the zenith.
+        let (w, _) = SPECULAR_SIZE;
+        for level in 0..SPECULAR_LEVELS {
+            let top = env.specular[level * w * SPECULAR_SIZE.1 + w / 2];
+            assert!((top[1] / 1000.0 - 1.0).abs() < 0.01, "{level}: {top:?}");
+        }
+    }
+
+    /// The BRDF table's A + B is the directional albedo of GGX with white
+    /// F0: ≤ 1, near 1 for smooth surfaces seen head-on.
+    #[test]
+    fn brdf_table_is_energy_bounded() {
+        let t = brdf_lut();
+        let n = BRDF_LUT_SIZE;
+        for v in &t {
+            assert!(
+                v[0] >= 0.0 && v[1] >= 0.0 && v[0] + v[1] <= 1.0 + 1e-3,
+                "{v:?}"
+            );
+        }
+        let smooth_head_on = t[n - 1];
+        assert!(
+            smooth_head_on[0] + smooth_head_on[1] > 0.95,
+            "{smooth_head_on:?}"
+        );
+    }
+}

@@ -1,0 +1,459 @@
+//! The lighting passes of a 3D world under the sky (`spec/world.md`),
+//! after the sky passes have filled the frame's target:
+//!
+//! 1. **G-buffer** ([`pipelines`], `gbuffer.wgsl`) — distance, normal,
+//!    roughness, base colour, metalness, material, velocity;
+//! 2. **sky visibility** ([`view::hemisphere_directions`]) — one
+//!    orthographic depth map of the world per direction of the sky's cells
+//!    ([`env`]); built once per world and kept while it does not change;
+//! 3. **shadows** — the Sun's and the Moon's cascades ([`view::cascades`]),
+//!    rebuilt when the light or the camera moved;
+//! 4. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
+//!    filtered shadows), the sky (occluded diffuse cells, prefiltered
+//!    specular), emission, fog and aerial perspective, written into the
+//!    target where the G-buffer has a surface.
+//!
+//! The sky's environment light itself ([`env::EnvLight`]) is built by the
+//! renderer from a cube map of the frame's sky (`world_frame.rs`).
+
+pub mod env;
+pub mod mesh;
+pub mod pipelines;
+pub mod resources;
+pub mod view;
+
+use std::time::Instant as Clock;
+
+use glam::{Mat4, Vec3};
+use himmel_skymodel::frame::{AerialPerspective, DirectLight, DirectLights};
+use himmel_skymodel::renderer::PassStat;
+use himmel_skymodel::{FogSpec, RenderError, Scene, ShadowFilter};
+
+use crate::gpu::{bind_group, Gpu};
+use env::EnvLight;
+use mesh::GpuWorld;
+use pipelines::{Pipelines, MATRIX_STRIDE};
+use resources::{GBuffer, LightMaps, ShadeTables};
+use view::{LightView, WorldCamera};
+
+/// The lighting uniforms (`Shade` in shade.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct ShadeUniforms {
+    eye: [f32; 4],
+    forward: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    sun_dir: [f32; 4],
+    sun_rgb: [f32; 4],
+    moon_dir: [f32; 4],
+    moon_rgb: [f32; 4],
+    fog: [f32; 4],
+    scales: [f32; 4],
+    counts: [u32; 4],
+    flags: [u32; 4],
+    cascade: [[f32; 16]; 8],
+    cascade_info: [[f32; 4]; 8],
+}
+
+/// The G-buffer camera (`GCamera` in gbuffer.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct GCamera {
+    view_proj: [f32; 16],
+    prev_view_proj: [f32; 16],
+    eye: [f32; 4],
+    size: [f32; 4],
+}
+
+/// What one world frame is lit by.
+pub struct WorldInputs<'a> {
+    /// The scene (camera, fog, lighting settings, world spec).
+    pub scene: &'a Scene,
+    /// The Sun and Moon as directional lights.
+    pub direct: DirectLights,
+    /// The sky's environment light (`None`: no atmosphere pass).
+    pub env: Option<&'a EnvLight>,
+    /// Whether the environment light changed since the last frame.
+    pub env_changed: bool,
+    /// The aerial perspective over the view (`None`: no atmosphere pass).
+    pub air: Option<&'a AerialPerspective>,
+    /// Whether the shadows pass runs.
+    pub shadows: bool,
+}
+
+/// Why the shadow maps of the last frame still hold.
+#[derive(Debug, Clone, PartialEq)]
+struct ShadowKey {
+    sun: Option<Vec3>,
+    moon: Option<Vec3>,
+    camera: [f32; 12],
+    settings: himmel_skymodel::world_spec::ShadowSettings,
+    world: (usize, usize, usize),
+}
+
+/// The lighting passes and what they keep between frames.
+#[derive(Default)]
+pub struct LightingPasses {
+    pipes: Option<Pipelines>,
+    world: Option<GpuWorld>,
+    maps: LightMaps,
+    gbuffer: Option<GBuffer>,
+    tables: Option<ShadeTables>,
+    shadow_key: Option<ShadowKey>,
+    shadow_views: Vec<LightView>,
+    sun_layers: u32,
+    prev_view_proj: Option<Mat4>,
+}
+
+fn ms(t: Clock) -> f64 {
+    t.elapsed().as_secs_f64() * 1e3
+}
+
+fn stat(name: &str, ran: bool, ms: Option<f64>, reason: Option<String>) -> PassStat {
+    PassStat {
+        name: name.into(),
+        ran,
+        ms,
+        reason,
+    }
+}
+
+impl LightingPasses {
+    /// Uploads `world` unless it is the one already held (same value).
+    pub fn set_world(&mut self, gpu: &Gpu, world: &himmel_world::World, ground_albedo: f32) -> f64 {
+        let t = Clock::now();
+        let id = mesh::identity(world);
+        if self.world.as_ref().map(|w| w.identity) != Some(id) {
+            self.world = Some(GpuWorld::new(gpu, world, ground_albedo));
+            self.maps.invalidate_visibility();
+            self.shadow_key = None;
+        }
+        ms(t)
+    }
+
+    /// The uploaded world.
+    pub fn world(&self) -> Option<&GpuWorld> {
+        self.world.as_ref()
+    }
+
+    /// The directions of the sky cells for `scene` (upper hemisphere only
+    /// over a ground plane).
+    pub fn cell_directions(scene: &Scene) -> Vec<Vec3> {
+        let ground = scene.world.as_ref().is_some_and(|w| w.ground);
+        let n = scene.lighting.sky.directions as usize;
+        if ground {
+            view::hemisphere_directions(n / 2, false)
+        } else {
+            view::hemisphere_directions(n / 2, true)
+        }
+    }
+
+    /// Renders the world into `target` (rgba32float, the frame's sky
+    /// already in it). Returns the lighting passes' `--stats` entries.
+    pub fn render(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &WorldInputs,
+        target: &wgpu::Texture,
+    ) -> Result<Vec<PassStat>, RenderError> {
+        let scene = inputs.scene;
+        let Some(world) = self.world.as_ref() else {
+            return Err(RenderError::Device("no world uploaded".into()));
+        };
+        let pipes = self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
+        let cam = WorldCamera::new(&scene.camera);
+        let mut stats = Vec::new();
+        let ground = scene.world.as_ref().is_some_and(|w| w.ground);
+        if ground {
+            world.place_ground(gpu, cam.eye);
+        }
+
+        // 1. G-buffer.
+        let t = Clock::now();
+        let vp = cam.view_projection();
+        let prev = self.prev_view_proj.unwrap_or(vp);
+        self.prev_view_proj = Some(vp);
+        let gb = match self.gbuffer.take() {
+            Some(g) if g.size == (cam.width, cam.height) => g,
+            _ => GBuffer::new(gpu, cam.width, cam.height),
+        };
+        let camera = GCamera {
+            view_proj: vp.to_cols_array(),
+            prev_view_proj: prev.to_cols_array(),
+            eye: cam.eye.extend(1.0).to_array(),
+            size: [cam.width as f32, cam.height as f32, 0.0, 0.0],
+        };
+        resources::gbuffer_pass(gpu, pipes, world, &gb, bytemuck::bytes_of(&camera), ground)?;
+        stats.push(stat("world/gbuffer", true, Some(ms(t)), None));
+
+        // 2. Sky visibility maps.
+        let dirs: Vec<Vec3> = inputs
+            .env
+            .map(|e| e.cells.iter().map(|c| c.dir).collect())
+            .unwrap_or_default();
+        let t = Clock::now();
+        match (inputs.env, world.bounds) {
+            (Some(_), Some(bounds)) => {
+                let res = scene.lighting.sky.visibility_resolution;
+                if self.maps.visibility_current(&dirs, res) {
+                    stats.push(stat(
+                        "world/sky-visibility",
+                        false,
+                        None,
+                        Some("reused: the world and the sky's directions have not changed".into()),
+                    ));
+                } else {
+                    let views: Vec<LightView> = dirs
+                        .iter()
+                        .map(|&d| {
+                            let c = (bounds.min + bounds.max) * 0.5;
+                            let half = 0.5 * bounds.extent() * 1.01;
+                            view::ortho_light(d, c, half, &bounds, res)
+                        })
+                        .collect();
+                    self.maps
+                        .build_visibility(gpu, pipes, world, &views, &dirs, res)?;
+                    stats.push(stat("world/sky-visibility", true, Some(ms(t)), None));
+                }
+            }
+            (None, _) => stats.push(stat(
+                "world/sky-visibility",
+                false,
+                None,
+                Some("no sky light: the atmosphere pass does not run".into()),
+            )),
+            (_, None) => stats.push(stat(
+                "world/sky-visibility",
+                false,
+                None,
+                Some("the world has no geometry".into()),
+            )),
+        }
+
+        // 3. Shadows of the Sun and the Moon.
+        let t = Clock::now();
+        let settings = scene.lighting.shadows;
+        let light_dir = |l: &Option<DirectLight>| l.map(|l| l.dir_world().as_vec3().normalize());
+        let (sun, moon) = (
+            light_dir(&inputs.direct.sun),
+            light_dir(&inputs.direct.moon),
+        );
+        let key = ShadowKey {
+            sun,
+            moon,
+            camera: [
+                cam.eye.x,
+                cam.eye.y,
+                cam.eye.z,
+                cam.forward.x,
+                cam.forward.y,
+                cam.forward.z,
+                cam.up.x,
+                cam.up.y,
+                cam.up.z,
+                cam.tan_half,
+                cam.aspect,
+                0.0,
+            ],
+            settings,
+            world: world.identity,
+        };
+        let shadows_stat = if !inputs.shadows || (sun.is_none() && moon.is_none()) {
+            self.shadow_views.clear();
+            self.sun_layers = 0;
+            None
+        } else if let Some(bounds) = world.bounds {
+            if self.shadow_key.as_ref() == Some(&key) {
+                Some(stat(
+                    "shadows",
+                    false,
+                    None,
+                    Some("reused: the lights, the camera and the world have not moved".into()),
+                ))
+            } else {
+                let cascades = |d: Option<Vec3>| {
+                    d.map(|d| {
+                        view::cascades(
+                            &cam,
+                            d,
+                            &bounds,
+                            settings.cascades,
+                            settings.max_distance_m as f32,
+                            settings.split_lambda as f32,
+                            settings.resolution,
+                        )
+                    })
+                    .unwrap_or_default()
+                };
+                let mut views = cascades(sun);
+                self.sun_layers = views.len() as u32;
+                views.extend(cascades(moon));
+                self.maps
+                    .build_shadows(gpu, pipes, world, &views, settings.resolution)?;
+                self.shadow_views = views;
+                self.shadow_key = Some(key);
+                Some(stat("shadows", true, Some(ms(t)), None))
+            }
+        } else {
+            None
+        };
+
+        // 4. Lighting.
+        let t = Clock::now();
+        self.maps.ensure_stand_ins(gpu)?;
+        let tables = self.tables.get_or_insert_with(|| ShadeTables::new(gpu));
+        if let Some(env) = inputs.env {
+            if inputs.env_changed || !tables.has_env() {
+                let res = scene.lighting.sky.visibility_resolution;
+                let texel = world.bounds.map_or(0.0, |b| b.extent() * 1.01 / res as f32);
+                tables.upload_env(gpu, env, texel);
+            }
+        }
+        let air_scale = inputs.air.map(|a| tables.upload_air(gpu, a));
+        let u = shade_uniforms(
+            inputs,
+            &cam,
+            air_scale,
+            tables.env_scale(),
+            &self.shadow_views,
+            self.sun_layers,
+        );
+        let ubuf = tables.uniforms(gpu, bytemuck::bytes_of(&u));
+        let out = target.create_view(&wgpu::TextureViewDescriptor {
+            dimension: Some(wgpu::TextureViewDimension::D2),
+            ..Default::default()
+        });
+        let missing = || RenderError::Device("light maps missing".into());
+        let group = bind_group(
+            &gpu.device,
+            "shade",
+            &pipes.shade_layout,
+            &[
+                ubuf.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&gb.views[0]),
+                wgpu::BindingResource::TextureView(&gb.views[1]),
+                wgpu::BindingResource::TextureView(&gb.views[2]),
+                wgpu::BindingResource::TextureView(&gb.views[3]),
+                wgpu::BindingResource::TextureView(&out),
+                world.materials.as_entire_binding(),
+                tables.cells.as_entire_binding(),
+                self.maps
+                    .cell_matrices()
+                    .ok_or_else(missing)?
+                    .as_entire_binding(),
+                wgpu::BindingResource::TextureView(
+                    self.maps.visibility_view().ok_or_else(missing)?,
+                ),
+                wgpu::BindingResource::TextureView(self.maps.shadow_view().ok_or_else(missing)?),
+                wgpu::BindingResource::Sampler(&pipes.compare),
+                wgpu::BindingResource::TextureView(&tables.specular),
+                wgpu::BindingResource::TextureView(&tables.brdf),
+                wgpu::BindingResource::Sampler(&pipes.clamp),
+                wgpu::BindingResource::TextureView(&tables.air_in),
+                wgpu::BindingResource::TextureView(&tables.air_t),
+            ],
+        );
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipes.shade);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
+        }
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait()?;
+        stats.push(stat("world/lighting", true, Some(ms(t)), None));
+        if let Some(s) = shadows_stat {
+            stats.push(s);
+        }
+        self.gbuffer = Some(gb);
+        Ok(stats)
+    }
+}
+
+/// The lighting uniforms of this frame.
+fn shade_uniforms(
+    inputs: &WorldInputs,
+    cam: &WorldCamera,
+    air_scale: Option<(f32, f32, f32)>,
+    env_scale: f32,
+    shadow_views: &[LightView],
+    sun_layers: u32,
+) -> ShadeUniforms {
+    let scene = inputs.scene;
+    let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
+    let light = |l: &Option<DirectLight>| match l {
+        Some(l) => (
+            v4(l.dir_world().as_vec3().normalize(), 1.0),
+            [
+                l.rgb[0] as f32,
+                l.rgb[1] as f32,
+                l.rgb[2] as f32,
+                l.angular_radius.tan() as f32,
+            ],
+        ),
+        None => ([0.0; 4], [0.0; 4]),
+    };
+    let (sun_dir, sun_rgb) = light(&inputs.direct.sun);
+    let (moon_dir, moon_rgb) = light(&inputs.direct.moon);
+    let fog = match &scene.fog {
+        Some(f) => fog_uniform(f),
+        None => [0.0, 1e30, 0.0, 0.0],
+    };
+    let mut cascade = [[0.0f32; 16]; 8];
+    let mut cascade_info = [[0.0f32; 4]; 8];
+    for (k, v) in shadow_views.iter().take(8).enumerate() {
+        cascade[k] = v.matrix.to_cols_array();
+        cascade_info[k] = [v.texel_m, v.depth_m, v.split_m.min(1e30), 0.0];
+    }
+    let moon_layers = shadow_views.len() as u32 - sun_layers.min(shadow_views.len() as u32);
+    let filter = match scene.lighting.shadows.filter {
+        ShadowFilter::Off => 0,
+        ShadowFilter::Pcf => 1,
+        ShadowFilter::Soft => 2,
+    };
+    let (ap_scale, ap_max, ap_slices) = air_scale.unwrap_or((1.0, 0.0, 1.0));
+    ShadeUniforms {
+        eye: v4(cam.eye, cam.tan_half),
+        forward: v4(cam.forward, cam.aspect),
+        right: v4(cam.right, cam.width as f32),
+        up: v4(cam.up, cam.height as f32),
+        sun_dir,
+        sun_rgb,
+        moon_dir,
+        moon_rgb,
+        fog,
+        scales: [env_scale, ap_scale, ap_max, ap_slices],
+        counts: [
+            inputs.env.map_or(0, |e| e.cells.len() as u32),
+            if sun_dir[3] > 0.0 { sun_layers } else { 0 },
+            if moon_dir[3] > 0.0 { moon_layers } else { 0 },
+            filter,
+        ],
+        flags: [inputs.env.is_some() as u32, sun_layers, 0, 0],
+        cascade,
+        cascade_info,
+    }
+}
+
+/// The fog's uniform: σt, top, on.
+fn fog_uniform(f: &FogSpec) -> [f32; 4] {
+    [
+        f.extinction_per_m() as f32,
+        f.top().min(1e30) as f32,
+        1.0,
+        0.0,
+    ]
+}
+
+/// Bytes of `n` light matrices at [`MATRIX_STRIDE`].
+pub fn matrix_bytes(views: &[LightView]) -> Vec<u8> {
+    let mut out = vec![0u8; views.len().max(1) * MATRIX_STRIDE as usize];
+    for (k, v) in views.iter().enumerate() {
+        let m = v.matrix.to_cols_array();
+        let at = k * MATRIX_STRIDE as usize;
+        out[at..at + 64].copy_from_slice(bytemuck::cast_slice(&m));
+    }
+    out
+}

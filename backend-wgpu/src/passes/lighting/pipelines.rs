@@ -1,0 +1,282 @@
+//! The lighting passes' pipelines, built once on the first world frame:
+//! the G-buffer raster (`shaders/lighting/gbuffer.wgsl`), the depth-only
+//! raster of the light maps (`depth.wgsl`) and the lighting compute pass
+//! (`shade.wgsl`), with their bind-group layouts and samplers.
+
+use crate::gpu::Gpu;
+
+use super::mesh::Vertex;
+
+/// The G-buffer's colour formats, in location order: distance, normal +
+/// roughness, base colour + metallic, material + 1, velocity.
+pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 5] = [
+    wgpu::TextureFormat::R32Float,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::Rgba16Float,
+    wgpu::TextureFormat::R32Uint,
+    wgpu::TextureFormat::Rg16Float,
+];
+
+/// The depth format of the G-buffer and of every light map.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// Stride of the light matrices in their uniform buffer (dynamic offsets).
+pub const MATRIX_STRIDE: u64 = 256;
+
+/// Every pipeline of the lighting passes.
+pub struct Pipelines {
+    /// The G-buffer raster.
+    pub gbuffer: wgpu::RenderPipeline,
+    /// Its group 0: camera, materials, base-colour textures, sampler.
+    pub gbuffer_layout: wgpu::BindGroupLayout,
+    /// The light maps' depth raster.
+    pub depth: wgpu::RenderPipeline,
+    /// Its group 0: one light matrix at a dynamic offset.
+    pub depth_layout: wgpu::BindGroupLayout,
+    /// The lighting compute pass.
+    pub shade: wgpu::ComputePipeline,
+    /// Its group 0 (shade.wgsl's bindings 0–16).
+    pub shade_layout: wgpu::BindGroupLayout,
+    /// Trilinear, repeating (base colour).
+    pub repeat: wgpu::Sampler,
+    /// Bilinear, clamped (environment, BRDF table, air table).
+    pub clamp: wgpu::Sampler,
+    /// Bilinear depth comparison (≤), clamped: 2×2 PCF per lookup.
+    pub compare: wgpu::Sampler,
+}
+
+fn entry(
+    binding: u32,
+    vis: wgpu::ShaderStages,
+    ty: wgpu::BindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: vis,
+        ty,
+        count: None,
+    }
+}
+
+fn texture(
+    sample_type: wgpu::TextureSampleType,
+    dim: wgpu::TextureViewDimension,
+) -> wgpu::BindingType {
+    wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension: dim,
+        multisampled: false,
+    }
+}
+
+fn buffer(ty: wgpu::BufferBindingType, dynamic: bool) -> wgpu::BindingType {
+    wgpu::BindingType::Buffer {
+        ty,
+        has_dynamic_offset: dynamic,
+        min_binding_size: None,
+    }
+}
+
+const STORAGE_RO: wgpu::BufferBindingType = wgpu::BufferBindingType::Storage { read_only: true };
+
+impl Pipelines {
+    /// Compiles the lighting passes on `gpu`.
+    pub fn new(gpu: &Gpu) -> Pipelines {
+        let dev = &gpu.device;
+        use wgpu::ShaderStages as S;
+        use wgpu::TextureSampleType as T;
+        use wgpu::TextureViewDimension as D;
+        let float = T::Float { filterable: true };
+        let unfiltered = T::Float { filterable: false };
+        let layout = |label: &str, entries: &[wgpu::BindGroupLayoutEntry]| {
+            dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries,
+            })
+        };
+        let gbuffer_layout = layout(
+            "gbuffer",
+            &[
+                entry(
+                    0,
+                    S::VERTEX_FRAGMENT,
+                    buffer(wgpu::BufferBindingType::Uniform, false),
+                ),
+                entry(1, S::FRAGMENT, buffer(STORAGE_RO, false)),
+                entry(2, S::FRAGMENT, texture(float, D::D2Array)),
+                entry(
+                    3,
+                    S::FRAGMENT,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+            ],
+        );
+        let depth_layout = layout(
+            "light depth",
+            &[entry(
+                0,
+                S::VERTEX,
+                buffer(wgpu::BufferBindingType::Uniform, true),
+            )],
+        );
+        let c = S::COMPUTE;
+        let shade_layout = layout(
+            "shade",
+            &[
+                entry(0, c, buffer(wgpu::BufferBindingType::Uniform, false)),
+                entry(1, c, texture(unfiltered, D::D2)),
+                entry(2, c, texture(unfiltered, D::D2)),
+                entry(3, c, texture(unfiltered, D::D2)),
+                entry(4, c, texture(T::Uint, D::D2)),
+                entry(
+                    5,
+                    c,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: crate::TARGET_FORMAT,
+                        view_dimension: D::D2,
+                    },
+                ),
+                entry(6, c, buffer(STORAGE_RO, false)),
+                entry(7, c, buffer(STORAGE_RO, false)),
+                entry(8, c, buffer(STORAGE_RO, false)),
+                entry(9, c, texture(T::Depth, D::D2Array)),
+                entry(10, c, texture(T::Depth, D::D2Array)),
+                entry(
+                    11,
+                    c,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+                ),
+                entry(12, c, texture(float, D::D2Array)),
+                entry(13, c, texture(float, D::D2)),
+                entry(
+                    14,
+                    c,
+                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                ),
+                entry(15, c, texture(float, D::D3)),
+                entry(16, c, texture(float, D::D3)),
+            ],
+        );
+        let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
+        let vertex_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &attrs,
+        };
+        let pos_only = [wgpu::VertexAttribute {
+            format: wgpu::VertexFormat::Float32x3,
+            offset: 0,
+            shader_location: 0,
+        }];
+        let pos_layout = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &pos_only,
+        };
+        let gmod = gpu.shader(
+            "gbuffer.wgsl",
+            include_str!("../../shaders/lighting/gbuffer.wgsl"),
+        );
+        let targets: Vec<Option<wgpu::ColorTargetState>> = GBUFFER_FORMATS
+            .iter()
+            .map(|&format| {
+                Some(wgpu::ColorTargetState {
+                    format,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })
+            })
+            .collect();
+        let gbuffer = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("gbuffer"),
+            layout: Some(&gpu.pipeline_layout("gbuffer", &[&gbuffer_layout])),
+            vertex: wgpu::VertexState {
+                module: &gmod,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(vertex_layout)],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Greater),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: Some(wgpu::FragmentState {
+                module: &gmod,
+                entry_point: Some("fs"),
+                compilation_options: Default::default(),
+                targets: &targets,
+            }),
+            multiview_mask: None,
+            cache: None,
+        });
+        let dmod = gpu.shader(
+            "depth.wgsl",
+            include_str!("../../shaders/lighting/depth.wgsl"),
+        );
+        let depth = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("light depth"),
+            layout: Some(&gpu.pipeline_layout("light depth", &[&depth_layout])),
+            vertex: wgpu::VertexState {
+                module: &dmod,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(pos_layout)],
+            },
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            fragment: None,
+            multiview_mask: None,
+            cache: None,
+        });
+        let smod = gpu.shader(
+            "shade.wgsl",
+            include_str!("../../shaders/lighting/shade.wgsl"),
+        );
+        let shade = gpu.compute_pipeline(
+            &gpu.pipeline_layout("shade", &[&shade_layout]),
+            &smod,
+            "shade",
+        );
+        let sampler = |label, mode, compare| {
+            dev.create_sampler(&wgpu::SamplerDescriptor {
+                label: Some(label),
+                address_mode_u: mode,
+                address_mode_v: mode,
+                address_mode_w: wgpu::AddressMode::ClampToEdge,
+                mag_filter: wgpu::FilterMode::Linear,
+                min_filter: wgpu::FilterMode::Linear,
+                mipmap_filter: wgpu::MipmapFilterMode::Linear,
+                compare,
+                ..Default::default()
+            })
+        };
+        Pipelines {
+            gbuffer,
+            gbuffer_layout,
+            depth,
+            depth_layout,
+            shade,
+            shade_layout,
+            repeat: sampler("repeat", wgpu::AddressMode::Repeat, None),
+            clamp: sampler("clamp", wgpu::AddressMode::ClampToEdge, None),
+            compare: sampler(
+                "compare",
+                wgpu::AddressMode::ClampToEdge,
+                Some(wgpu::CompareFunction::LessEqual),
+            ),
+        }
+    }
+}

@@ -1,0 +1,395 @@
+// The lighting of a world frame (passes/lighting/shade.rs): every pixel the
+// G-buffer covers gets the radiance it sends to the camera, in cd/m²:
+//
+//   L = [Σ_lights f·E·(n·l)·shadow·T_fog,light + diffuse sky + specular sky
+//        + emission] · T_fog,view · T_air + L_air
+//
+// * the Sun and the Moon: directional lights of the frame's transmitted
+//   illuminance E (lux), Lambert + GGX (height-correlated Smith, Schlick
+//   Fresnel); fully rough dielectrics are Lambertian. Shadows from the
+//   cascaded maps: `off` (one texel), `pcf` (3×3 bilinear comparisons) or
+//   `soft` (a blocker search, then a disk filter as wide as the light's
+//   angular diameter × the blocker–receiver distance);
+// * the sky: Σ_cells max(0, n·M_k) · V_k(p) (env.rs), V_k from the k-th
+//   visibility map — the world hides the sky it covers; specular from the
+//   prefiltered equirect maps × the split-sum BRDF × the visibility of the
+//   cell nearest the reflected ray;
+// * fog (world.md): light reaching height y: exp(−σt (top − y) / sin h);
+//   sky light: exp(−σt (top − y)) (the vertical path, an approximation);
+//   the view ray: exp(−σt × its length inside the fog);
+// * aerial perspective: in-scattering L_air and transmittance T_air of the
+//   air between the eye and the point, from a froxel table the sky model
+//   computes (frame/lights.rs).
+// Sky pixels are not written: they stay what the sky passes rendered.
+
+struct Shade {
+    // xyz: eye; w: tan(fov / 2).
+    eye: vec4<f32>,
+    // xyz: forward; w: width / height.
+    forward: vec4<f32>,
+    // xyz: right; w: width, px.
+    right: vec4<f32>,
+    // xyz: up; w: height, px.
+    up: vec4<f32>,
+    // xyz: towards the Sun (world frame); w: 1 when it lights.
+    sun_dir: vec4<f32>,
+    // rgb: transmitted illuminance, lux; w: tan(angular radius).
+    sun_rgb: vec4<f32>,
+    moon_dir: vec4<f32>,
+    moon_rgb: vec4<f32>,
+    // σt (1/m), top (m), 1 when there is fog, 0.
+    fog: vec4<f32>,
+    // Scale of the f16 environment maps, of the f16 air table, the air
+    // table's largest distance (m), its slices.
+    scales: vec4<f32>,
+    // Sky cells, Sun cascades, Moon cascades, filter (0 off, 1 pcf, 2 soft).
+    counts: vec4<u32>,
+    // Whether the sky light is on, the first Moon layer, 0, 0.
+    flags: vec4<u32>,
+    cascade: array<mat4x4<f32>, 8>,
+    // texel (m), depth range (m), split view depth (m; 1e30: the last), 0.
+    cascade_info: array<vec4<f32>, 8>,
+}
+
+struct MaterialGpu {
+    base_color: vec4<f32>,
+    emissive_texture: vec4<f32>,
+    metallic_roughness: vec4<f32>,
+}
+
+struct SkyCell {
+    // xyz: direction (world); w: its visibility map's texel, m.
+    dir: vec4<f32>,
+    // xyz: ∫ L ω dω of the red channel; w: the cell's solid angle, sr.
+    r: vec4<f32>,
+    g: vec4<f32>,
+    b: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> u: Shade;
+@group(0) @binding(1) var g_distance: texture_2d<f32>;
+@group(0) @binding(2) var g_normal: texture_2d<f32>;
+@group(0) @binding(3) var g_base: texture_2d<f32>;
+@group(0) @binding(4) var g_material: texture_2d<u32>;
+@group(0) @binding(5) var out_tex: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var<storage, read> materials: array<MaterialGpu>;
+@group(0) @binding(7) var<storage, read> cells: array<SkyCell>;
+@group(0) @binding(8) var<storage, read> cell_view: array<mat4x4<f32>>;
+@group(0) @binding(9) var visibility: texture_depth_2d_array;
+@group(0) @binding(10) var shadows: texture_depth_2d_array;
+@group(0) @binding(11) var cmp_sampler: sampler_comparison;
+@group(0) @binding(12) var specular: texture_2d_array<f32>;
+@group(0) @binding(13) var brdf: texture_2d<f32>;
+@group(0) @binding(14) var lin: sampler;
+@group(0) @binding(15) var air_in: texture_3d<f32>;
+@group(0) @binding(16) var air_t: texture_3d<f32>;
+
+const PI: f32 = 3.14159265358979;
+const SPECULAR_LEVELS: f32 = 5.0;
+
+fn light_uv(s: vec4<f32>) -> vec2<f32> {
+    return vec2<f32>(s.x * 0.5 + 0.5, 0.5 - s.y * 0.5);
+}
+
+fn inside(uv: vec2<f32>) -> bool {
+    return all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
+}
+
+// Visibility of sky cell k from point p with normal n.
+fn cell_visibility(k: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
+    let c = cells[k];
+    let q = p + n * (1.5 * c.dir.w);
+    let s = cell_view[k] * vec4<f32>(q, 1.0);
+    let uv = light_uv(s);
+    if !inside(uv) || s.z < 0.0 {
+        return 1.0;
+    }
+    return textureSampleCompareLevel(visibility, cmp_sampler, uv, i32(k), s.z - 1e-4);
+}
+
+// A per-pixel rotation for the disk samples (interleaved gradient noise,
+// Jimenez 2014).
+fn rotation(px: vec2<u32>) -> f32 {
+    let f = vec2<f32>(px);
+    return 2.0 * PI * fract(52.9829189 * fract(0.06711056 * f.x + 0.00583715 * f.y));
+}
+
+// The i-th of n points spread evenly over the unit disk (Vogel's spiral).
+fn disk(i: u32, n: u32, rot: f32) -> vec2<f32> {
+    let r = sqrt((f32(i) + 0.5) / f32(n));
+    let a = f32(i) * 2.39996323 + rot;
+    return r * vec2<f32>(cos(a), sin(a));
+}
+
+// Shadow of a directional light (cascades first..first+count) at p.
+fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, view_depth: f32, tan_r: f32, px: vec2<u32>) -> f32 {
+    var c = 0u;
+    loop {
+        if c + 1u >= count || view_depth <= u.cascade_info[first + c].z {
+            break;
+        }
+        c = c + 1u;
+    }
+    let layer = first + c;
+    let info = u.cascade_info[layer];
+    let texel = info.x;
+    let depth_m = info.y;
+    let q = p + n * (1.5 * texel);
+    let s = u.cascade[layer] * vec4<f32>(q, 1.0);
+    let uv = light_uv(s);
+    if !inside(uv) {
+        return 1.0;
+    }
+    let size = vec2<f32>(textureDimensions(shadows));
+    let z = s.z - (1.0 * texel) / depth_m;
+    // The receiver's own plane tilts away in the map: at a distance x (m)
+    // across the map it lies x·tan(n, l) deeper or shallower. Lookups x
+    // away are biased by that much, so a wide filter does not find the
+    // receiver itself as its blocker.
+    let nl = max(dot(n, ld), 0.05);
+    let slope = sqrt(max(1.0 - nl * nl, 0.0)) / nl / depth_m;
+    let mode = u.counts.w;
+    if mode == 0u {
+        let t = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
+        return select(0.0, 1.0, z <= textureLoad(shadows, t, i32(layer), 0));
+    }
+    if mode == 1u {
+        var sum = 0.0;
+        for (var dy = -1; dy <= 1; dy++) {
+            for (var dx = -1; dx <= 1; dx++) {
+                let q2 = vec2<f32>(f32(dx), f32(dy));
+                let o = q2 / size;
+                sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z - length(q2) * texel * slope);
+            }
+        }
+        return sum / 9.0;
+    }
+    // Soft: the blocker search over the largest penumbra this receiver can
+    // have (its depth below the map's top × tan r), then the disk filter.
+    let rot = rotation(px);
+    let search_m = max(s.z * depth_m * tan_r, texel);
+    let search = min(search_m / texel, 64.0);
+    var blockers = 0.0;
+    var zb = 0.0;
+    for (var i = 0u; i < 16u; i++) {
+        let q2 = disk(i, 16u, rot) * search;
+        let o = q2 / size;
+        let t = vec2<i32>(clamp((uv + o) * size, vec2<f32>(0.0), size - 1.0));
+        let d = textureLoad(shadows, t, i32(layer), 0);
+        if d < z - length(q2) * texel * slope {
+            blockers += 1.0;
+            zb += d;
+        }
+    }
+    if blockers == 0.0 {
+        return 1.0;
+    }
+    zb = zb / blockers;
+    // Penumbra half-width, texels: (receiver − blocker distance) × tan r.
+    let radius = max((z - zb) * depth_m * tan_r / texel, 0.5);
+    var sum = 0.0;
+    let taps = 32u;
+    for (var i = 0u; i < taps; i++) {
+        let q2 = disk(i, taps, rot) * radius;
+        let o = q2 / size;
+        sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z - length(q2) * texel * slope);
+    }
+    return sum / f32(taps);
+}
+
+struct Surface {
+    n: vec3<f32>,
+    v: vec3<f32>,
+    base: vec3<f32>,
+    metallic: f32,
+    roughness: f32,
+}
+
+fn lambertian(s: Surface) -> bool {
+    return s.metallic <= 0.0 && s.roughness >= 1.0;
+}
+
+fn f0_of(s: Surface) -> vec3<f32> {
+    return mix(vec3<f32>(0.04), s.base, s.metallic);
+}
+
+// BRDF × cos for a directional light from l.
+fn direct(s: Surface, l: vec3<f32>) -> vec3<f32> {
+    let nl = dot(s.n, l);
+    if nl <= 0.0 {
+        return vec3<f32>(0.0);
+    }
+    let diffuse = s.base * (1.0 - s.metallic) / PI;
+    if lambertian(s) {
+        return diffuse * nl;
+    }
+    let h = normalize(s.v + l);
+    let nv = max(dot(s.n, s.v), 1e-4);
+    let nh = max(dot(s.n, h), 0.0);
+    let vh = max(dot(s.v, h), 0.0);
+    let a = max(s.roughness * s.roughness, 2e-3);
+    let a2 = a * a;
+    let dd = nh * nh * (a2 - 1.0) + 1.0;
+    let d = a2 / (PI * dd * dd);
+    let vis = 0.5 / (nl * sqrt(nv * nv * (1.0 - a2) + a2) + nv * sqrt(nl * nl * (1.0 - a2) + a2));
+    let f = f0_of(s) + (1.0 - f0_of(s)) * pow(1.0 - vh, 5.0);
+    return ((1.0 - f) * diffuse + d * vis * f) * nl;
+}
+
+fn equirect_uv(d: vec3<f32>) -> vec2<f32> {
+    let az = atan2(d.x, -d.z);
+    let u0 = az / (2.0 * PI);
+    return vec2<f32>(u0 - floor(u0), acos(clamp(d.y, -1.0, 1.0)) / PI);
+}
+
+fn prefiltered(r: vec3<f32>, roughness: f32) -> vec3<f32> {
+    let level = clamp(roughness, 0.0, 1.0) * (SPECULAR_LEVELS - 1.0);
+    let l0 = floor(level);
+    let l1 = min(l0 + 1.0, SPECULAR_LEVELS - 1.0);
+    let uv = equirect_uv(r);
+    let a = textureSampleLevel(specular, lin, uv, i32(l0), 0.0).rgb;
+    let b = textureSampleLevel(specular, lin, uv, i32(l1), 0.0).rgb;
+    return mix(a, b, level - l0) * u.scales.x;
+}
+
+// Length of the segment from the eye to p inside the fog (y ≤ top).
+fn fog_length(p: vec3<f32>) -> f32 {
+    let top = u.fog.y;
+    let e = u.eye.xyz;
+    let len = length(p - e);
+    let lo = min(e.y, p.y);
+    let hi = max(e.y, p.y);
+    if lo >= top {
+        return 0.0;
+    }
+    if hi <= top || hi - lo < 1e-6 {
+        return len;
+    }
+    return len * (top - lo) / (hi - lo);
+}
+
+@compute @workgroup_size(8, 8)
+fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let w = u32(u.right.w);
+    let h = u32(u.up.w);
+    if gid.x >= w || gid.y >= h {
+        return;
+    }
+    let px = vec2<i32>(gid.xy);
+    let id = textureLoad(g_material, px, 0).x;
+    if id == 0u {
+        return;
+    }
+    let m = materials[id - 1u];
+    let dist = textureLoad(g_distance, px, 0).x;
+    let nr = textureLoad(g_normal, px, 0);
+    let bm = textureLoad(g_base, px, 0);
+    let t = u.eye.w;
+    let nx = (f32(gid.x) + 0.5 - 0.5 * f32(w)) / (0.5 * f32(h)) * t;
+    let ny = -(f32(gid.y) + 0.5 - 0.5 * f32(h)) / (0.5 * f32(h)) * t;
+    let ray = normalize(u.forward.xyz + u.right.xyz * nx + u.up.xyz * ny);
+    let p = u.eye.xyz + ray * dist;
+    var s: Surface;
+    s.n = normalize(nr.xyz);
+    s.v = -ray;
+    s.roughness = nr.w;
+    s.base = bm.rgb;
+    s.metallic = bm.a;
+    let view_depth = dist * dot(ray, u.forward.xyz);
+    let fog_on = u.fog.z > 0.5;
+    let depth_in_fog = max(u.fog.y - p.y, 0.0);
+    var l = vec3<f32>(0.0);
+    // The Sun and the Moon.
+    if u.sun_dir.w > 0.5 {
+        let ld = u.sun_dir.xyz;
+        var e = u.sun_rgb.rgb;
+        if fog_on {
+            e = e * select(0.0, exp(-u.fog.x * depth_in_fog / max(ld.y, 1e-4)), ld.y > 0.0 || depth_in_fog == 0.0);
+        }
+        let f = direct(s, ld);
+        if any(f > vec3<f32>(0.0)) {
+            var vis = 1.0;
+            if u.counts.y > 0u {
+                vis = shadow(0u, u.counts.y, p, s.n, ld, view_depth, u.sun_rgb.w, gid.xy);
+            }
+            l += f * e * vis;
+        }
+    }
+    if u.moon_dir.w > 0.5 {
+        let ld = u.moon_dir.xyz;
+        var e = u.moon_rgb.rgb;
+        if fog_on {
+            e = e * select(0.0, exp(-u.fog.x * depth_in_fog / max(ld.y, 1e-4)), ld.y > 0.0 || depth_in_fog == 0.0);
+        }
+        let f = direct(s, ld);
+        if any(f > vec3<f32>(0.0)) {
+            var vis = 1.0;
+            if u.counts.z > 0u {
+                vis = shadow(u.flags.y, u.counts.z, p, s.n, ld, view_depth, u.moon_rgb.w, gid.xy);
+            }
+            l += f * e * vis;
+        }
+    }
+    // The sky: every cell's first moment, seen through its visibility map.
+    var open = 1.0;
+    if u.flags.x == 1u {
+        var e = vec3<f32>(0.0);
+        let r = reflect(ray, s.n);
+        var best = -2.0;
+        var spec_vis = 1.0;
+        var open_sum = 0.0;
+        var open_all = 0.0;
+        for (var k = 0u; k < u.counts.x; k++) {
+            let c = cells[k];
+            let proj = vec3<f32>(dot(s.n, c.r.xyz), dot(s.n, c.g.xyz), dot(s.n, c.b.xyz));
+            let vis = cell_visibility(k, p, s.n);
+            e += max(proj, vec3<f32>(0.0)) * vis;
+            let near_r = dot(r, c.dir.xyz);
+            if near_r > best {
+                best = near_r;
+                spec_vis = vis;
+            }
+            if c.dir.y > 0.0 {
+                open_sum += vis * c.r.w;
+                open_all += c.r.w;
+            }
+        }
+        if open_all > 0.0 {
+            open = open_sum / open_all;
+        }
+        var sky_t = 1.0;
+        if fog_on {
+            sky_t = exp(-u.fog.x * depth_in_fog);
+        }
+        let diffuse = s.base * (1.0 - s.metallic) / PI;
+        if lambertian(s) {
+            l += diffuse * e * sky_t;
+        } else {
+            let nv = max(dot(s.n, s.v), 1e-4);
+            let ab = textureSampleLevel(brdf, lin, vec2<f32>(nv, s.roughness), 0.0).rg;
+            let f0 = f0_of(s);
+            let fr = f0 + (max(vec3<f32>(1.0 - s.roughness), f0) - f0) * pow(1.0 - nv, 5.0);
+            let spec = prefiltered(r, s.roughness) * (f0 * ab.x + ab.y) * spec_vis;
+            l += ((1.0 - fr) * diffuse * e + spec) * sky_t;
+        }
+    }
+    l += m.emissive_texture.xyz;
+    // The view ray: fog, then the air.
+    if fog_on {
+        l = l * exp(-u.fog.x * fog_length(p));
+    }
+    if u.scales.z > 0.0 {
+        let uvw = vec3<f32>(
+            (f32(gid.x) + 0.5) / f32(w),
+            (f32(gid.y) + 0.5) / f32(h),
+            (sqrt(clamp(dist / u.scales.z, 0.0, 1.0)) * (u.scales.w - 1.0) + 0.5) / u.scales.w,
+        );
+        // The air between the eye and a surface the world closes off from
+        // the sky (a room) is not lit by it: its in-scattering is scaled by
+        // the surface's open fraction of the sky (an approximation).
+        let ins = textureSampleLevel(air_in, lin, uvw, 0.0).rgb * u.scales.y * open;
+        let tr = textureSampleLevel(air_t, lin, uvw, 0.0).rgb;
+        l = l * tr + ins;
+    }
+    textureStore(out_tex, px, vec4<f32>(l, 1.0));
+}
