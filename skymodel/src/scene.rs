@@ -222,6 +222,10 @@ impl Default for StarParams {
     }
 }
 
+/// Default largest exposure step between consecutive frames of a sequence,
+/// EV (`Scene::exposure_max_step_ev`).
+pub const DEFAULT_EXPOSURE_MAX_STEP_EV: f64 = 0.25;
+
 /// The complete scene. Every number has a documented range that
 /// [`Scene::validate`] checks; [`Scene::from_json`] names the field of any
 /// error by its path.
@@ -257,6 +261,10 @@ pub struct Scene {
     pub stars: StarParams,
     /// Ordered dithering of 8-bit output (default true).
     pub dither: bool,
+    /// Largest change of the automatic exposure between consecutive frames
+    /// of a sequence, EV, in [0.01, 10] (default 0.25;
+    /// `crate::sequence::exposure`).
+    pub exposure_max_step_ev: f64,
     /// A 3D world under the sky (default none: a sky-only render).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub world: Option<WorldSpec>,
@@ -288,6 +296,7 @@ impl Default for Scene {
             night_vision: true,
             stars: StarParams::default(),
             dither: true,
+            exposure_max_step_ev: DEFAULT_EXPOSURE_MAX_STEP_EV,
             world: None,
             fog: None,
             lighting: LightingSpec::default(),
@@ -402,6 +411,12 @@ impl Scene {
             ("time.speed", t.speed, -1e9, 1e9),
             ("sun_scale", self.sun_scale, 0.01, 100.0),
             ("moon_scale", self.moon_scale, 0.01, 100.0),
+            (
+                "exposure_max_step_ev",
+                self.exposure_max_step_ev,
+                0.01,
+                10.0,
+            ),
             ("stars.limit_mag", st.limit_mag, -2.0, 8.0),
             ("stars.core_px", st.core_px, 0.3, 4.0),
             ("stars.glare", st.glare, 0.0, 10.0),
@@ -415,7 +430,10 @@ impl Scene {
             if !(f.is_finite() && (0.0..1.0).contains(&f)) {
                 return Err(SceneError::new(
                     "time.day_fraction",
-                    format!("{} is outside [0, 1) (0.25 = apparent solar 06:00)", show(f)),
+                    format!(
+                        "{} is outside [0, 1) (0.25 = apparent solar 06:00)",
+                        show(f)
+                    ),
                 ));
             }
         }

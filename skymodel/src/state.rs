@@ -59,11 +59,10 @@ pub fn scene_utc(scene: &Scene) -> Result<UtcDateTime, SceneError> {
         return Ok(utc);
     };
     let o = &scene.observer;
-    let observer =
-        Observer::new(o.lat_deg, o.lon_deg, o.elevation_m).map_err(|e| SceneError {
-            field: "observer".into(),
-            message: e.to_string(),
-        })?;
+    let observer = Observer::new(o.lat_deg, o.lon_deg, o.elevation_m).map_err(|e| SceneError {
+        field: "observer".into(),
+        message: e.to_string(),
+    })?;
     let precision = Precision::from_name(&scene.precision).unwrap_or(Precision::Standard);
     crate::solar_time::day_fraction_instant(&utc, &observer, precision, f)
 }

@@ -79,6 +79,12 @@ impl CameraPath {
     /// Parses and validates a path. Errors name the field by its path
     /// (`keyframes[1].position_m`, `keyframes`) and say what is accepted.
     pub fn from_json(text: &str) -> Result<CameraPath, SequenceError> {
+        if !text.trim_start().starts_with('{') {
+            return Err(path_err(
+                "camera path",
+                "expected a JSON object {\"keyframes\": [...]}",
+            ));
+        }
         let de = &mut serde_json::Deserializer::from_str(text);
         let path: CameraPath = serde_path_to_error::deserialize(&mut *de).map_err(|e| {
             let field = e.path().to_string();
@@ -103,7 +109,8 @@ impl CameraPath {
     }
 
     fn key_of(k: &CameraKeyframe) -> f64 {
-        k.frame.map_or_else(|| k.time_s.unwrap_or(f64::NAN), f64::from)
+        k.frame
+            .map_or_else(|| k.time_s.unwrap_or(f64::NAN), f64::from)
     }
 
     /// Checks: at least one keyframe; each keyed by exactly one of `frame`
@@ -150,7 +157,9 @@ impl CameraPath {
             if v <= prev {
                 return Err(path_err(
                     at(name),
-                    format!("{v} does not increase (keyframes must be in strictly increasing order)"),
+                    format!(
+                        "{v} does not increase (keyframes must be in strictly increasing order)"
+                    ),
                 ));
             }
             prev = v;
@@ -256,16 +265,40 @@ mod tests {
     fn errors_name_the_field() {
         let cases = [
             (r#"{"keyframes": []}"#, "keyframes"),
-            (r#"{"keyframes": [{"frame": 0, "position_m": [0, 1], "look_at_m": [0, 0, 1]}]}"#, "keyframes[0].position_m"),
-            (r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1], "fov": 3}]}"#, "keyframes[0]"),
-            (r#"{"keyframes": [{"position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#, "keyframes[0]"),
-            (r#"{"keyframes": [{"frame": 2, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]},
-                               {"frame": 2, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#, "keyframes[1].frame"),
-            (r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]},
-                               {"time_s": 9, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#, "keyframes[1]"),
-            (r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 0], "look_at_m": [0, 0, 0]}]}"#, "keyframes[0].look_at_m"),
-            (r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 2e6], "look_at_m": [0, 0, 0]}]}"#, "keyframes[0].position_m"),
-            (r#"{"keyframes": [{"frame": -1, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#, "keyframes[0].frame"),
+            (
+                r#"{"keyframes": [{"frame": 0, "position_m": [0, 1], "look_at_m": [0, 0, 1]}]}"#,
+                "keyframes[0].position_m",
+            ),
+            (
+                r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1], "fov": 3}]}"#,
+                "keyframes[0].fov",
+            ),
+            (
+                r#"{"keyframes": [{"position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#,
+                "keyframes[0]",
+            ),
+            (
+                r#"{"keyframes": [{"frame": 2, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]},
+                               {"frame": 2, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#,
+                "keyframes[1].frame",
+            ),
+            (
+                r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]},
+                               {"time_s": 9, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#,
+                "keyframes[1]",
+            ),
+            (
+                r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 0], "look_at_m": [0, 0, 0]}]}"#,
+                "keyframes[0].look_at_m",
+            ),
+            (
+                r#"{"keyframes": [{"frame": 0, "position_m": [0, 0, 2e6], "look_at_m": [0, 0, 0]}]}"#,
+                "keyframes[0].position_m",
+            ),
+            (
+                r#"{"keyframes": [{"frame": -1, "position_m": [0, 0, 0], "look_at_m": [0, 0, 1]}]}"#,
+                "keyframes[0].frame",
+            ),
             ("[1, 2]", "camera path"),
         ];
         for (text, field) in cases {

@@ -34,8 +34,7 @@
 //! command line meters a small preview of every frame first (the same
 //! renderer, LUTs reused).
 
-/// The default largest exposure step between consecutive frames, EV.
-pub const DEFAULT_MAX_STEP_EV: f64 = 0.25;
+pub use crate::scene::DEFAULT_EXPOSURE_MAX_STEP_EV;
 
 /// The exposure curve of a sequence (EV100 per frame) from its metered
 /// EV100s: the minimax fit whose steps are at most `max_step_ev` (see the
@@ -114,7 +113,11 @@ mod tests {
         assert!((ev[5] - 0.75).abs() < 1e-12);
         assert_eq!((ev[1], ev[2]), (0.0, 0.0));
         assert_eq!((ev[17], ev[18]), (4.0, 4.0));
-        let worst = ev.iter().zip(&m).map(|(a, b)| (a - b).abs()).fold(0.0, f64::max);
+        let worst = ev
+            .iter()
+            .zip(&m)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
         assert!(worst <= 2.0);
     }
 }
