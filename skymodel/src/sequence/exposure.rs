@@ -10,25 +10,28 @@
 //! deflicker pass of time-lapse software): the exposure changes smoothly,
 //! by a fraction of a stop per frame, and starts before the light changes.
 //!
-//! Here the exposure curve is the one closest to the metered curve m
-//! (smallest maximum deviation) among all curves whose frame-to-frame step
-//! is at most R = `max_step_ev`:
+//! Here the exposure curve is the lowest curve that lies at or above the
+//! metered curve m and whose frame-to-frame step is at most
+//! R = `max_step_ev`:
 //!
 //! ```text
-//!   U_k = min_j (m_j + R·|k − j|)     the lowest R-Lipschitz curve above m
-//!   L_k = max_j (m_j − R·|k − j|)     the highest R-Lipschitz curve below m
-//!   EV_k = (U_k + L_k) / 2
+//!   EV_k = max_j (m_j − R·|k − j|)
 //! ```
 //!
-//! U and L are R-Lipschitz, so their mean is too (|EV_k − EV_{k+1}| ≤ R),
-//! and L ≤ m ≤ U bounds the deviation by (U − L)/2, which no R-limited curve
-//! can beat (the minimax fit). Where m is itself slower than R, U = L = m:
-//! the exposure is the metered one. The time constant is the rate: an
-//! isolated jump of ΔEV is ramped over 2·ΔEV/R frames centred on it (R/2
-//! per frame, half the frames before the jump); light that changes at R per
-//! frame or slower is followed exactly. U and L
-//! are each two linear sweeps (a distance transform), so the curve costs
-//! O(N) for N frames.
+//! (the upper R-Lipschitz envelope of m; a max of R-Lipschitz cones is
+//! R-Lipschitz, so |EV_k − EV_{k+1}| ≤ R, and EV ≥ m with equality at m's
+//! local maxima). A higher EV is a darker image, so **no frame is exposed
+//! brighter than its own meter**: the day keeps its metered exposure and
+//! its highlights, while a change too fast to follow (a 30-minute-step
+//! twilight drops ~20 EV in four frames) is ramped at R per frame *before*
+//! the sky brightens and *after* it darkens — dusk and night get darker on
+//! screen, as they do to an eye watching the film. No R-limited curve can
+//! follow both a day and a night exactly: a 24 h lapse of N frames can
+//! travel at most N·R EV in all, and the ~40 EV down and up again of a
+//! clear day need 160 frames at R = 0.25. Where m is itself slower than R,
+//! EV = m: the exposure is the metered one. The time constant is the rate:
+//! a change of ΔEV takes ΔEV/R frames. The envelope is two linear sweeps
+//! (a distance transform), so the curve costs O(N) for N frames.
 //!
 //! The metered curve must be known before the frames are written: the
 //! command line meters a small preview of every frame first (the same
@@ -37,47 +40,38 @@
 pub use crate::scene::DEFAULT_EXPOSURE_MAX_STEP_EV;
 
 /// The exposure curve of a sequence (EV100 per frame) from its metered
-/// EV100s: the minimax fit whose steps are at most `max_step_ev` (see the
-/// module documentation). `max_step_ev` must be positive (a zero or
-/// negative step gives the constant mid-range curve).
+/// EV100s: the lowest curve at or above them whose steps are at most
+/// `max_step_ev` (see the module documentation; a negative step counts as
+/// zero: the constant curve at the brightest meter).
 pub fn smooth_ev100(metered: &[f64], max_step_ev: f64) -> Vec<f64> {
     let r = max_step_ev.max(0.0);
-    let n = metered.len();
-    let mut upper = metered.to_vec();
-    let mut lower = metered.to_vec();
-    for k in 1..n {
-        upper[k] = upper[k].min(upper[k - 1] + r);
-        lower[k] = lower[k].max(lower[k - 1] - r);
+    let mut ev = metered.to_vec();
+    for k in 1..ev.len() {
+        ev[k] = ev[k].max(ev[k - 1] - r);
     }
-    for k in (0..n.saturating_sub(1)).rev() {
-        upper[k] = upper[k].min(upper[k + 1] + r);
-        lower[k] = lower[k].max(lower[k + 1] - r);
+    for k in (1..ev.len()).rev() {
+        ev[k - 1] = ev[k - 1].max(ev[k] - r);
     }
-    upper
-        .iter()
-        .zip(&lower)
-        .map(|(u, l)| 0.5 * (u + l))
-        .collect()
+    ev
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
 
-    /// The brute-force envelopes, O(N²), straight from the definition.
+    /// The envelope by brute force, O(N²), straight from the definition.
     fn reference(m: &[f64], r: f64) -> Vec<f64> {
         (0..m.len())
             .map(|k| {
-                let d = |j: usize| r * (k as f64 - j as f64).abs();
-                let u = (0..m.len()).map(|j| m[j] + d(j)).fold(f64::MAX, f64::min);
-                let l = (0..m.len()).map(|j| m[j] - d(j)).fold(f64::MIN, f64::max);
-                0.5 * (u + l)
+                (0..m.len())
+                    .map(|j| m[j] - r * (k as f64 - j as f64).abs())
+                    .fold(f64::MIN, f64::max)
             })
             .collect()
     }
 
     #[test]
-    fn matches_the_brute_force_envelopes() {
+    fn matches_the_brute_force_envelope_and_never_exposes_brighter() {
         // A day: night at −6, a 20 EV jump at dawn and dusk, noise.
         let m: Vec<f64> = (0..48)
             .map(|k| {
@@ -92,6 +86,10 @@ mod tests {
         for w in fast.windows(2) {
             assert!((w[1] - w[0]).abs() <= 0.25 + 1e-12);
         }
+        assert!(fast.iter().zip(&m).all(|(e, m)| e >= m));
+        // The day's brightest meter is kept exactly.
+        let top = m.iter().cloned().fold(f64::MIN, f64::max);
+        assert!(fast.contains(&top));
     }
 
     #[test]
@@ -103,21 +101,16 @@ mod tests {
     }
 
     #[test]
-    fn a_step_is_ramped_symmetrically_around_it() {
-        // 0 then 4 EV from frame 10: the ramp spans 2·4/0.5 = 16 frames
-        // (2 to 17) at 0.25 EV per frame, centred on the step, and the
-        // deviation is at most half the step.
-        let m: Vec<f64> = (0..20).map(|k| if k < 10 { 0.0 } else { 4.0 }).collect();
+    fn a_step_up_is_anticipated_and_a_step_down_followed() {
+        // 0 → 4 EV at frame 10 and back to 0 at frame 20, R = 0.5: the
+        // exposure rises over the 8 frames before the first step and falls
+        // over the 8 frames after the second.
+        let m: Vec<f64> = (0..30)
+            .map(|k| if (10..20).contains(&k) { 4.0 } else { 0.0 })
+            .collect();
         let ev = smooth_ev100(&m, 0.5);
-        assert!((ev[9] - 1.75).abs() < 1e-12 && (ev[10] - 2.25).abs() < 1e-12);
-        assert!((ev[5] - 0.75).abs() < 1e-12);
-        assert_eq!((ev[1], ev[2]), (0.0, 0.0));
-        assert_eq!((ev[17], ev[18]), (4.0, 4.0));
-        let worst = ev
-            .iter()
-            .zip(&m)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-        assert!(worst <= 2.0);
+        assert_eq!((ev[1], ev[2], ev[6], ev[9]), (0.0, 0.0, 2.0, 3.5));
+        assert_eq!((ev[10], ev[19]), (4.0, 4.0));
+        assert_eq!((ev[20], ev[23], ev[27], ev[28]), (3.5, 2.0, 0.0, 0.0));
     }
 }
