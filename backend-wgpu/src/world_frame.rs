@@ -210,7 +210,12 @@ impl WgpuRenderer {
         let mut s = scene.clone();
         s.world = None;
         s.fog = None;
+        // The Moon stays requested so that the moonlit sky is part of the
+        // atmosphere; its disk's pass is left out below with the Sun's.
         s.effects = env_effects(scene);
+        if scene.wants(Effect::Moon) {
+            s.effects.push(Effect::Moon);
+        }
         let face = scene.lighting.sky.cube_face;
         s.camera = Camera {
             projection: Projection::Cubemap,
@@ -222,7 +227,7 @@ impl WgpuRenderer {
         // disks (directional lights) and whatever is not sky.
         let mut st = state.clone();
         for p in st.passes.iter_mut() {
-            if !s.effects.contains(&p.effect) {
+            if !ENV_EFFECTS.contains(&p.effect) {
                 p.skip(himmel_skymodel::SkipReason::NotRequested);
             }
         }

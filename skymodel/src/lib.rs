@@ -56,6 +56,7 @@ pub mod projection;
 pub mod refraction;
 pub mod renderer;
 pub mod scene;
+pub mod scene_error;
 pub mod sequence;
 pub mod solar_time;
 pub mod spectrum;

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
 use crate::projection::Camera;
+pub use crate::scene_error::SceneError;
 use crate::units::show;
 pub use crate::world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};
 
@@ -304,32 +305,6 @@ impl Default for Scene {
     }
 }
 
-/// An invalid scene, naming the field.
-#[derive(Debug, Clone, PartialEq)]
-pub struct SceneError {
-    /// The field or flag-like path (`observer.lat_deg`, `camera.fov_deg`, …).
-    pub field: String,
-    /// What is wrong and what is accepted.
-    pub message: String,
-}
-
-impl std::fmt::Display for SceneError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}: {}", self.field, self.message)
-    }
-}
-
-impl std::error::Error for SceneError {}
-
-impl SceneError {
-    fn new(field: &str, message: impl Into<String>) -> Self {
-        SceneError {
-            field: field.into(),
-            message: message.into(),
-        }
-    }
-}
-
 impl Scene {
     /// Parses a scene from JSON. Every error names the field by its dotted
     /// path ([`SceneError::field`], e.g. `observer.lat_deg`,
@@ -372,11 +347,13 @@ impl Scene {
     /// The default scene with a world, its camera, a fog and every lighting
     /// key at its default (`himmel scene-template --world`).
     pub fn template_world_json() -> String {
-        let mut s = Scene::default();
-        s.world = Some(WorldSpec {
-            gltf: "world.glb".into(),
-            ground: true,
-        });
+        let mut s = Scene {
+            world: Some(WorldSpec {
+                gltf: "world.glb".into(),
+                ground: true,
+            }),
+            ..Scene::default()
+        };
         s.camera.projection = crate::Projection::Perspective;
         s.camera.width = 1280;
         s.camera.height = 720;

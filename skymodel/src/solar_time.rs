@@ -29,7 +29,7 @@
 
 use himmel_astro::{Body, Instant, Observer, Precision, Sky, UtcDateTime};
 
-use crate::scene::SceneError;
+use crate::scene_error::SceneError;
 
 const SECONDS_PER_DAY: f64 = 86_400.0;
 const TAU: f64 = core::f64::consts::TAU;

@@ -6,7 +6,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene::SceneError;
+use crate::scene_error::SceneError;
 use crate::units::show;
 
 /// A 3D world under the sky.

@@ -218,11 +218,12 @@ pub fn sh9_basis(d: Vec3) -> [f32; 9] {
 /// The prefiltered maps: for each level's roughness r and output direction
 /// R (taken as normal and view, the split-sum assumption), Σ L D(n·h) (n·ω)
 /// / Σ D (n·ω) over a 16²-per-face reduction of the cube map; level 0 is
-/// the radiance itself at the map's resolution.
+/// the radiance under a ≈ 3° lobe over a 32²-per-face reduction.
 fn prefilter(texels: &[(Vec3, f32, [f32; 3])], face: usize) -> Vec<[f32; 3]> {
-    // Reduce the cube to ≤ 16 × 16 per face: merge texels by block.
-    let k = (face / 16).max(1);
-    let reduced = reduce(texels, face, k);
+    // Reduce the cube to ≤ 32 × 32 per face for the mirror level and
+    // ≤ 16 × 16 for the rough ones: merge texels by block.
+    let fine = reduce(texels, face, (face / 32).max(1));
+    let reduced = reduce(texels, face, (face / 16).max(1));
     let (w, h) = SPECULAR_SIZE;
     let mut out = Vec::with_capacity(SPECULAR_LEVELS * w * h);
     for level in 0..SPECULAR_LEVELS {
@@ -231,7 +232,7 @@ fn prefilter(texels: &[(Vec3, f32, [f32; 3])], face: usize) -> Vec<[f32; 3]> {
             for i in 0..w {
                 let n = equirect_dir(i, j, w, h);
                 let (mut acc, mut wsum) = ([0.0f32; 3], 0.0f32);
-                let src: &[(Vec3, f32, [f32; 3])] = if level == 0 { texels } else { &reduced };
+                let src: &[(Vec3, f32, [f32; 3])] = if level == 0 { &fine } else { &reduced };
                 for &(d, sa, l) in src {
                     let c = n.dot(d);
                     if c <= 0.0 {

@@ -157,20 +157,34 @@ impl LightingPasses {
         inputs: &WorldInputs,
         target: &wgpu::Texture,
     ) -> Result<Vec<PassStat>, RenderError> {
-        let scene = inputs.scene;
-        let Some(world) = self.world.as_ref() else {
-            return Err(RenderError::Device("no world uploaded".into()));
+        if self.world.is_none() {
+            return Err(RenderError::WorldMissing);
+        }
+        self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
+        let cam = WorldCamera::new(&inputs.scene.camera);
+        let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
+        stats.push(self.visibility_step(gpu, inputs)?);
+        let shadows = self.shadow_step(gpu, inputs, &cam)?;
+        stats.push(self.lighting_step(gpu, inputs, &cam, target)?);
+        stats.extend(shadows);
+        Ok(stats)
+    }
+
+    /// 1. The G-buffer (and the ground plane under the eye).
+    fn gbuffer_step(
+        &mut self,
+        gpu: &Gpu,
+        scene: &Scene,
+        cam: &WorldCamera,
+    ) -> Result<PassStat, RenderError> {
+        let (Some(world), Some(pipes)) = (self.world.as_ref(), self.pipes.as_ref()) else {
+            return Err(RenderError::WorldMissing);
         };
-        let pipes = self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
-        let cam = WorldCamera::new(&scene.camera);
-        let mut stats = Vec::new();
+        let t = Clock::now();
         let ground = scene.world.as_ref().is_some_and(|w| w.ground);
         if ground {
             world.place_ground(gpu, cam.eye);
         }
-
-        // 1. G-buffer.
-        let t = Clock::now();
         let vp = cam.view_projection();
         let prev = self.prev_view_proj.unwrap_or(vp);
         self.prev_view_proj = Some(vp);
@@ -185,60 +199,75 @@ impl LightingPasses {
             size: [cam.width as f32, cam.height as f32, 0.0, 0.0],
         };
         resources::gbuffer_pass(gpu, pipes, world, &gb, bytemuck::bytes_of(&camera), ground)?;
-        stats.push(stat("world/gbuffer", true, Some(ms(t)), None));
+        self.gbuffer = Some(gb);
+        Ok(stat("world/gbuffer", true, Some(ms(t)), None))
+    }
 
-        // 2. Sky visibility maps.
-        let dirs: Vec<Vec3> = inputs
-            .env
-            .map(|e| e.cells.iter().map(|c| c.dir).collect())
-            .unwrap_or_default();
+    /// 2. The sky's visibility maps, kept while the world and the cells'
+    /// directions do not change.
+    fn visibility_step(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &WorldInputs,
+    ) -> Result<PassStat, RenderError> {
+        let (Some(world), Some(pipes)) = (self.world.as_ref(), self.pipes.as_ref()) else {
+            return Err(RenderError::WorldMissing);
+        };
         let t = Clock::now();
-        match (inputs.env, world.bounds) {
-            (Some(_), Some(bounds)) => {
-                let res = scene.lighting.sky.visibility_resolution;
-                if self.maps.visibility_current(&dirs, res) {
-                    stats.push(stat(
-                        "world/sky-visibility",
-                        false,
-                        None,
-                        Some("reused: the world and the sky's directions have not changed".into()),
-                    ));
-                } else {
-                    let views: Vec<LightView> = dirs
-                        .iter()
-                        .map(|&d| {
-                            let c = (bounds.min + bounds.max) * 0.5;
-                            let half = 0.5 * bounds.extent() * 1.01;
-                            view::ortho_light(d, c, half, &bounds, res)
-                        })
-                        .collect();
-                    self.maps
-                        .build_visibility(gpu, pipes, world, &views, &dirs, res)?;
-                    stats.push(stat("world/sky-visibility", true, Some(ms(t)), None));
-                }
+        let (env, bounds) = match (inputs.env, world.bounds) {
+            (Some(e), Some(b)) => (e, b),
+            (None, _) => {
+                let why = "no sky light: the atmosphere pass does not run";
+                return Ok(stat("world/sky-visibility", false, None, Some(why.into())));
             }
-            (None, _) => stats.push(stat(
-                "world/sky-visibility",
-                false,
-                None,
-                Some("no sky light: the atmosphere pass does not run".into()),
-            )),
-            (_, None) => stats.push(stat(
-                "world/sky-visibility",
-                false,
-                None,
-                Some("the world has no geometry".into()),
-            )),
+            (_, None) => {
+                let why = "the world has no geometry";
+                return Ok(stat("world/sky-visibility", false, None, Some(why.into())));
+            }
+        };
+        let dirs: Vec<Vec3> = env.cells.iter().map(|c| c.dir).collect();
+        let res = inputs.scene.lighting.sky.visibility_resolution;
+        if self.maps.visibility_current(&dirs, res) {
+            let why = "reused: the world and the sky's directions have not changed";
+            return Ok(stat("world/sky-visibility", false, None, Some(why.into())));
         }
+        let centre = (bounds.min + bounds.max) * 0.5;
+        let half = 0.5 * bounds.extent() * 1.01;
+        let views: Vec<LightView> = dirs
+            .iter()
+            .map(|&d| view::ortho_light(d, centre, half, &bounds, res))
+            .collect();
+        self.maps
+            .build_visibility(gpu, pipes, world, &views, &dirs, res)?;
+        Ok(stat("world/sky-visibility", true, Some(ms(t)), None))
+    }
 
-        // 3. Shadows of the Sun and the Moon.
+    /// 3. The Sun's and Moon's cascades, kept while the lights, the camera
+    /// and the world do not move.
+    fn shadow_step(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &WorldInputs,
+        cam: &WorldCamera,
+    ) -> Result<Option<PassStat>, RenderError> {
+        let (Some(world), Some(pipes)) = (self.world.as_ref(), self.pipes.as_ref()) else {
+            return Err(RenderError::WorldMissing);
+        };
         let t = Clock::now();
-        let settings = scene.lighting.shadows;
+        let settings = inputs.scene.lighting.shadows;
         let light_dir = |l: &Option<DirectLight>| l.map(|l| l.dir_world().as_vec3().normalize());
         let (sun, moon) = (
             light_dir(&inputs.direct.sun),
             light_dir(&inputs.direct.moon),
         );
+        let Some(bounds) = world
+            .bounds
+            .filter(|_| inputs.shadows && (sun.is_some() || moon.is_some()))
+        else {
+            self.shadow_views.clear();
+            self.sun_layers = 0;
+            return Ok(None);
+        };
         let key = ShadowKey {
             sun,
             moon,
@@ -259,53 +288,55 @@ impl LightingPasses {
             settings,
             world: world.identity,
         };
-        let shadows_stat = if !inputs.shadows || (sun.is_none() && moon.is_none()) {
-            self.shadow_views.clear();
-            self.sun_layers = 0;
-            None
-        } else if let Some(bounds) = world.bounds {
-            if self.shadow_key.as_ref() == Some(&key) {
-                Some(stat(
-                    "shadows",
-                    false,
-                    None,
-                    Some("reused: the lights, the camera and the world have not moved".into()),
-                ))
-            } else {
-                let cascades = |d: Option<Vec3>| {
-                    d.map(|d| {
-                        view::cascades(
-                            &cam,
-                            d,
-                            &bounds,
-                            settings.cascades,
-                            settings.max_distance_m as f32,
-                            settings.split_lambda as f32,
-                            settings.resolution,
-                        )
-                    })
-                    .unwrap_or_default()
-                };
-                let mut views = cascades(sun);
-                self.sun_layers = views.len() as u32;
-                views.extend(cascades(moon));
-                self.maps
-                    .build_shadows(gpu, pipes, world, &views, settings.resolution)?;
-                self.shadow_views = views;
-                self.shadow_key = Some(key);
-                Some(stat("shadows", true, Some(ms(t)), None))
-            }
-        } else {
-            None
+        if self.shadow_key.as_ref() == Some(&key) {
+            let why = "reused: the lights, the camera and the world have not moved";
+            return Ok(Some(stat("shadows", false, None, Some(why.into()))));
+        }
+        let cascades = |d: Option<Vec3>| {
+            d.map(|d| {
+                view::cascades(
+                    cam,
+                    d,
+                    &bounds,
+                    settings.cascades,
+                    settings.max_distance_m as f32,
+                    settings.split_lambda as f32,
+                    settings.resolution,
+                )
+            })
+            .unwrap_or_default()
         };
+        let mut views = cascades(sun);
+        self.sun_layers = views.len() as u32;
+        views.extend(cascades(moon));
+        self.maps
+            .build_shadows(gpu, pipes, world, &views, settings.resolution)?;
+        self.shadow_views = views;
+        self.shadow_key = Some(key);
+        Ok(Some(stat("shadows", true, Some(ms(t)), None)))
+    }
 
-        // 4. Lighting.
+    /// 4. The lighting pass into the target.
+    fn lighting_step(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &WorldInputs,
+        cam: &WorldCamera,
+        target: &wgpu::Texture,
+    ) -> Result<PassStat, RenderError> {
         let t = Clock::now();
         self.maps.ensure_stand_ins(gpu)?;
+        let (Some(world), Some(pipes), Some(gb)) = (
+            self.world.as_ref(),
+            self.pipes.as_ref(),
+            self.gbuffer.as_ref(),
+        ) else {
+            return Err(RenderError::WorldMissing);
+        };
         let tables = self.tables.get_or_insert_with(|| ShadeTables::new(gpu));
         if let Some(env) = inputs.env {
             if inputs.env_changed || !tables.has_env() {
-                let res = scene.lighting.sky.visibility_resolution;
+                let res = inputs.scene.lighting.sky.visibility_resolution;
                 let texel = world.bounds.map_or(0.0, |b| b.extent() * 1.01 / res as f32);
                 tables.upload_env(gpu, env, texel);
             }
@@ -313,7 +344,7 @@ impl LightingPasses {
         let air_scale = inputs.air.map(|a| tables.upload_air(gpu, a));
         let u = shade_uniforms(
             inputs,
-            &cam,
+            cam,
             air_scale,
             tables.env_scale(),
             &self.shadow_views,
@@ -325,33 +356,32 @@ impl LightingPasses {
             ..Default::default()
         });
         let missing = || RenderError::Device("light maps missing".into());
+        let tv = wgpu::BindingResource::TextureView;
         let group = bind_group(
             &gpu.device,
             "shade",
             &pipes.shade_layout,
             &[
                 ubuf.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&gb.views[0]),
-                wgpu::BindingResource::TextureView(&gb.views[1]),
-                wgpu::BindingResource::TextureView(&gb.views[2]),
-                wgpu::BindingResource::TextureView(&gb.views[3]),
-                wgpu::BindingResource::TextureView(&out),
+                tv(&gb.views[0]),
+                tv(&gb.views[1]),
+                tv(&gb.views[2]),
+                tv(&gb.views[3]),
+                tv(&out),
                 world.materials.as_entire_binding(),
                 tables.cells.as_entire_binding(),
                 self.maps
                     .cell_matrices()
                     .ok_or_else(missing)?
                     .as_entire_binding(),
-                wgpu::BindingResource::TextureView(
-                    self.maps.visibility_view().ok_or_else(missing)?,
-                ),
-                wgpu::BindingResource::TextureView(self.maps.shadow_view().ok_or_else(missing)?),
+                tv(self.maps.visibility_view().ok_or_else(missing)?),
+                tv(self.maps.shadow_view().ok_or_else(missing)?),
                 wgpu::BindingResource::Sampler(&pipes.compare),
-                wgpu::BindingResource::TextureView(&tables.specular),
-                wgpu::BindingResource::TextureView(&tables.brdf),
+                tv(&tables.specular),
+                tv(&tables.brdf),
                 wgpu::BindingResource::Sampler(&pipes.clamp),
-                wgpu::BindingResource::TextureView(&tables.air_in),
-                wgpu::BindingResource::TextureView(&tables.air_t),
+                tv(&tables.air_in),
+                tv(&tables.air_t),
             ],
         );
         let mut enc = gpu.device.create_command_encoder(&Default::default());
@@ -363,12 +393,7 @@ impl LightingPasses {
         }
         gpu.queue.submit([enc.finish()]);
         gpu.wait()?;
-        stats.push(stat("world/lighting", true, Some(ms(t)), None));
-        if let Some(s) = shadows_stat {
-            stats.push(s);
-        }
-        self.gbuffer = Some(gb);
-        Ok(stats)
+        Ok(stat("world/lighting", true, Some(ms(t)), None))
     }
 }
 

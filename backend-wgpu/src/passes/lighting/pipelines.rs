@@ -83,96 +83,12 @@ impl Pipelines {
     /// Compiles the lighting passes on `gpu`.
     pub fn new(gpu: &Gpu) -> Pipelines {
         let dev = &gpu.device;
-        use wgpu::ShaderStages as S;
-        use wgpu::TextureSampleType as T;
-        use wgpu::TextureViewDimension as D;
-        let float = T::Float { filterable: true };
-        let unfiltered = T::Float { filterable: false };
-        let layout = |label: &str, entries: &[wgpu::BindGroupLayoutEntry]| {
-            dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-                label: Some(label),
-                entries,
-            })
-        };
-        let gbuffer_layout = layout(
-            "gbuffer",
-            &[
-                entry(
-                    0,
-                    S::VERTEX_FRAGMENT,
-                    buffer(wgpu::BufferBindingType::Uniform, false),
-                ),
-                entry(1, S::FRAGMENT, buffer(STORAGE_RO, false)),
-                entry(2, S::FRAGMENT, texture(float, D::D2Array)),
-                entry(
-                    3,
-                    S::FRAGMENT,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                ),
-            ],
-        );
-        let depth_layout = layout(
-            "light depth",
-            &[entry(
-                0,
-                S::VERTEX,
-                buffer(wgpu::BufferBindingType::Uniform, true),
-            )],
-        );
-        let c = S::COMPUTE;
-        let shade_layout = layout(
-            "shade",
-            &[
-                entry(0, c, buffer(wgpu::BufferBindingType::Uniform, false)),
-                entry(1, c, texture(unfiltered, D::D2)),
-                entry(2, c, texture(unfiltered, D::D2)),
-                entry(3, c, texture(unfiltered, D::D2)),
-                entry(4, c, texture(T::Uint, D::D2)),
-                entry(
-                    5,
-                    c,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: crate::TARGET_FORMAT,
-                        view_dimension: D::D2,
-                    },
-                ),
-                entry(6, c, buffer(STORAGE_RO, false)),
-                entry(7, c, buffer(STORAGE_RO, false)),
-                entry(8, c, buffer(STORAGE_RO, false)),
-                entry(9, c, texture(T::Depth, D::D2Array)),
-                entry(10, c, texture(T::Depth, D::D2Array)),
-                entry(
-                    11,
-                    c,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                ),
-                entry(12, c, texture(float, D::D2Array)),
-                entry(13, c, texture(float, D::D2)),
-                entry(
-                    14,
-                    c,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
-                ),
-                entry(15, c, texture(float, D::D3)),
-                entry(16, c, texture(float, D::D3)),
-            ],
-        );
+        let (gbuffer_layout, depth_layout, shade_layout) = layouts(dev);
         let attrs = wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x3, 2 => Float32x2];
         let vertex_layout = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &attrs,
-        };
-        let pos_only = [wgpu::VertexAttribute {
-            format: wgpu::VertexFormat::Float32x3,
-            offset: 0,
-            shader_location: 0,
-        }];
-        let pos_layout = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<Vertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &pos_only,
         };
         let gmod = gpu.shader(
             "gbuffer.wgsl",
@@ -201,7 +117,7 @@ impl Pipelines {
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: DEPTH_FORMAT,
                 depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Greater),
+                depth_compare: Some(wgpu::CompareFunction::GreaterEqual),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
@@ -215,32 +131,7 @@ impl Pipelines {
             multiview_mask: None,
             cache: None,
         });
-        let dmod = gpu.shader(
-            "depth.wgsl",
-            include_str!("../../shaders/lighting/depth.wgsl"),
-        );
-        let depth = dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("light depth"),
-            layout: Some(&gpu.pipeline_layout("light depth", &[&depth_layout])),
-            vertex: wgpu::VertexState {
-                module: &dmod,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(pos_layout)],
-            },
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            fragment: None,
-            multiview_mask: None,
-            cache: None,
-        });
+        let depth = depth_pipeline(gpu, &depth_layout);
         let smod = gpu.shader(
             "shade.wgsl",
             include_str!("../../shaders/lighting/shade.wgsl"),
@@ -279,4 +170,132 @@ impl Pipelines {
             ),
         }
     }
+}
+
+/// The bind-group layouts of the G-buffer, the light depth and the
+/// lighting passes.
+fn layouts(
+    dev: &wgpu::Device,
+) -> (
+    wgpu::BindGroupLayout,
+    wgpu::BindGroupLayout,
+    wgpu::BindGroupLayout,
+) {
+    use wgpu::ShaderStages as S;
+    use wgpu::TextureSampleType as T;
+    use wgpu::TextureViewDimension as D;
+    let float = T::Float { filterable: true };
+    let unfiltered = T::Float { filterable: false };
+    let layout = |label: &str, entries: &[wgpu::BindGroupLayoutEntry]| {
+        dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some(label),
+            entries,
+        })
+    };
+    let gbuffer_layout = layout(
+        "gbuffer",
+        &[
+            entry(
+                0,
+                S::VERTEX_FRAGMENT,
+                buffer(wgpu::BufferBindingType::Uniform, false),
+            ),
+            entry(1, S::FRAGMENT, buffer(STORAGE_RO, false)),
+            entry(2, S::FRAGMENT, texture(float, D::D2Array)),
+            entry(
+                3,
+                S::FRAGMENT,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            ),
+        ],
+    );
+    let depth_layout = layout(
+        "light depth",
+        &[entry(
+            0,
+            S::VERTEX,
+            buffer(wgpu::BufferBindingType::Uniform, true),
+        )],
+    );
+    let c = S::COMPUTE;
+    let shade_layout = layout(
+        "shade",
+        &[
+            entry(0, c, buffer(wgpu::BufferBindingType::Uniform, false)),
+            entry(1, c, texture(unfiltered, D::D2)),
+            entry(2, c, texture(unfiltered, D::D2)),
+            entry(3, c, texture(unfiltered, D::D2)),
+            entry(4, c, texture(T::Uint, D::D2)),
+            entry(
+                5,
+                c,
+                wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: crate::TARGET_FORMAT,
+                    view_dimension: D::D2,
+                },
+            ),
+            entry(6, c, buffer(STORAGE_RO, false)),
+            entry(7, c, buffer(STORAGE_RO, false)),
+            entry(8, c, buffer(STORAGE_RO, false)),
+            entry(9, c, texture(T::Depth, D::D2Array)),
+            entry(10, c, texture(T::Depth, D::D2Array)),
+            entry(
+                11,
+                c,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+            ),
+            entry(12, c, texture(float, D::D2Array)),
+            entry(13, c, texture(float, D::D2)),
+            entry(
+                14,
+                c,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            ),
+            entry(15, c, texture(float, D::D3)),
+            entry(16, c, texture(float, D::D3)),
+        ],
+    );
+    (gbuffer_layout, depth_layout, shade_layout)
+}
+
+/// The depth-only raster of the light maps (positions only).
+fn depth_pipeline(gpu: &Gpu, depth_layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
+    let dev = &gpu.device;
+    let pos_only = [wgpu::VertexAttribute {
+        format: wgpu::VertexFormat::Float32x3,
+        offset: 0,
+        shader_location: 0,
+    }];
+    let pos_layout = wgpu::VertexBufferLayout {
+        array_stride: std::mem::size_of::<Vertex>() as u64,
+        step_mode: wgpu::VertexStepMode::Vertex,
+        attributes: &pos_only,
+    };
+    let dmod = gpu.shader(
+        "depth.wgsl",
+        include_str!("../../shaders/lighting/depth.wgsl"),
+    );
+    dev.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some("light depth"),
+        layout: Some(&gpu.pipeline_layout("light depth", &[depth_layout])),
+        vertex: wgpu::VertexState {
+            module: &dmod,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[Some(pos_layout)],
+        },
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: Some(wgpu::DepthStencilState {
+            format: DEPTH_FORMAT,
+            depth_write_enabled: Some(true),
+            depth_compare: Some(wgpu::CompareFunction::LessEqual),
+            stencil: Default::default(),
+            bias: Default::default(),
+        }),
+        multisample: Default::default(),
+        fragment: None,
+        multiview_mask: None,
+        cache: None,
+    })
 }

@@ -144,16 +144,18 @@ pub fn gbuffer_pass(
         });
         pass.set_pipeline(&pipes.gbuffer);
         pass.set_bind_group(0, &group, &[]);
-        pass.set_vertex_buffer(0, world.vertices.slice(..));
-        pass.set_index_buffer(world.indices.slice(..), wgpu::IndexFormat::Uint32);
-        for d in &world.draws {
-            pass.draw_indexed(d.first..d.first + d.count, 0, d.material..d.material + 1);
-        }
+        // The ground first: with ≥ depth tests the world's own floor wins
+        // where it lies in the ground plane.
         if ground {
             pass.set_vertex_buffer(0, world.ground.slice(..));
             pass.set_index_buffer(world.ground_indices.slice(..), wgpu::IndexFormat::Uint32);
             let m = world.ground_material;
             pass.draw_indexed(0..6, 0, m..m + 1);
+        }
+        pass.set_vertex_buffer(0, world.vertices.slice(..));
+        pass.set_index_buffer(world.indices.slice(..), wgpu::IndexFormat::Uint32);
+        for d in &world.draws {
+            pass.draw_indexed(d.first..d.first + d.count, 0, d.material..d.material + 1);
         }
     }
     gpu.queue.submit([enc.finish()]);
