@@ -66,7 +66,7 @@ fn atmosphere_only_runs_one_pass_and_says_why_not_the_others() {
     let s = scene(vec![Effect::Atmosphere], 64, 64, Projection::Fisheye);
     let state = SkyState::at(&s).unwrap();
     let out = CpuRenderer::new(None).render(&s, &state).unwrap();
-    assert_eq!(out.passes.len(), 7);
+    assert_eq!(out.passes.len(), Effect::ALL.len());
     for p in &out.passes {
         if p.name == "atmosphere" {
             assert!(p.ran && p.ms.is_some());

@@ -137,7 +137,8 @@ impl WgpuRenderer {
         }
         let mut stats = Vec::new();
         let sky_on = plan.runs(Effect::Atmosphere);
-        let dirs = LightingPasses::cell_directions(scene);
+        let max_layers = self.gpu.device.limits().max_texture_array_layers;
+        let (dirs, sets) = LightingPasses::cell_directions(scene, max_layers);
         // The environment light.
         let t = Clock::now();
         let mut env_changed = false;
@@ -152,7 +153,7 @@ impl WgpuRenderer {
                     reason: Some(why),
                 }),
                 None => {
-                    let env = self.build_env(scene, state, &dirs)?;
+                    let env = self.build_env(scene, state, &dirs, sets)?;
                     self.env = Some(EnvCache { key, env });
                     env_changed = true;
                     stats.push(PassStat {
@@ -206,6 +207,7 @@ impl WgpuRenderer {
         scene: &Scene,
         state: &SkyState,
         dirs: &[Vec3],
+        sets: usize,
     ) -> Result<EnvLight, RenderError> {
         let mut s = scene.clone();
         s.world = None;
@@ -233,7 +235,7 @@ impl WgpuRenderer {
         }
         let frame = self.render_frame(&s, &st)?;
         let cube = self.read_back(&frame)?;
-        Ok(EnvLight::from_cube(&cube, dirs))
+        Ok(EnvLight::from_cube(&cube, dirs, sets))
     }
 
     /// The aerial perspective over the camera's view, out to the farthest

@@ -95,7 +95,11 @@ impl fmt::Display for CatalogError {
                 field,
                 text,
                 reason,
-            } => write!(f, "{source} line {line}: field {field} '{text}': {reason}"),
+            } => write!(
+                f,
+                "{source} line {line}: field {field} '{}': {reason}",
+                printable(text)
+            ),
             CatalogError::Json {
                 source,
                 line,
@@ -117,3 +121,15 @@ impl fmt::Display for CatalogError {
 }
 
 impl std::error::Error for CatalogError {}
+
+/// `s` with control characters escaped (`\n`, `\u{1b}`): the text of a
+/// source file echoed in a one-line error.
+fn printable(s: &str) -> String {
+    s.chars()
+        .flat_map(|c| {
+            let escaped = c.is_control().then(|| c.escape_default());
+            let plain = (!c.is_control()).then_some(c);
+            escaped.into_iter().flatten().chain(plain)
+        })
+        .collect()
+}

@@ -6,6 +6,7 @@ use clap::Args;
 use himmel_astro::Observer;
 
 use crate::CliError;
+pub use himmel_cli::inputs::{check, observer};
 
 /// The common observer flags of the contract.
 #[derive(Args, Debug)]
@@ -46,31 +47,9 @@ impl ObserverArgs {
     }
 }
 
-/// Checks a finite value against a range, naming the flag in the error.
-pub fn check(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, String> {
-    if !v.is_finite() {
-        Err(format!(
-            "{flag} {v} is not a finite number; expected a value in [{min}, {max}]"
-        ))
-    } else if v < min || v > max {
-        Err(format!("{flag} {v} is outside [{min}, {max}]"))
-    } else {
-        Ok(v)
-    }
-}
-
 /// [`check`] with the error as a [`CliError`] (exit code 2).
 pub fn check_input(flag: &str, v: f64, min: f64, max: f64) -> Result<f64, CliError> {
     check(flag, v, min, max).map_err(CliError::input)
-}
-
-/// The observer of `--lat` (degrees in [−90, 90]), `--lon` (east, degrees;
-/// 360-wrapped input accepted) and `--elevation` (metres).
-pub fn observer(lat: f64, lon: f64, elevation: f64) -> Result<Observer, String> {
-    let lat = check("--lat", lat, -90.0, 90.0)?;
-    let lon = check("--lon", lon, -360.0, 360.0)?;
-    let elevation = check("--elevation", elevation, -12_000.0, 100_000.0)?;
-    Observer::new(lat, lon, elevation).map_err(|e| e.to_string())
 }
 
 /// The value of a flag that is required here, or an error naming it and what

@@ -8,12 +8,15 @@ use himmel_astro::{Body, Instant, Observer, Precision, Sky, UtcDateTime};
 use serde_json::{json, Map, Value};
 
 use crate::common;
-use crate::timearg::{format_utc, now, parse_rfc3339};
+use crate::timearg::{format_utc, parse_date_or_time};
 use crate::{CliError, Format};
+use himmel_cli::inputs::parse_batch_line;
 
 #[derive(Args, Debug)]
 pub struct EphemerisArgs {
-    /// Instant, RFC 3339 civil UTC (e.g. 2024-04-08T18:42:00Z) or `now`.
+    /// Instant: RFC 3339 civil UTC (e.g. 2024-04-08T18:42:00Z), a date
+    /// YYYY-MM-DD (0h UTC) or `now`. Julian calendar before 1582-10-15,
+    /// signed years outside 0000-9999 (-0500-03-01T12:00:00Z).
     #[arg(long, value_name = "TIME")]
     time: Option<String>,
     #[command(flatten)]
@@ -63,13 +66,10 @@ pub fn parse_precision(s: &str) -> Result<Precision, String> {
         .ok_or_else(|| format!("--precision: unknown tier '{s}'; expected low, standard or high"))
 }
 
-/// Parses `--time` (`now` or RFC 3339).
+/// Parses `--time`: `now`, RFC 3339 or a date (0h UTC); Julian calendar
+/// before 1582-10-15 ([`crate::timearg`]).
 pub fn parse_time(s: &str) -> Result<UtcDateTime, String> {
-    if s.trim().eq_ignore_ascii_case("now") {
-        now()
-    } else {
-        parse_rfc3339(s).map_err(|e| format!("--time: {e}"))
-    }
+    parse_date_or_time("--time", s, true)
 }
 
 /// One observation request.
@@ -91,7 +91,9 @@ pub fn run(args: &EphemerisArgs) -> Result<(), CliError> {
         return run_batch(path, &bodies, precision);
     }
     let time = args.time.as_deref().ok_or_else(|| {
-        CliError::input("--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)")
+        CliError::input(
+            "--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, a date, or now)",
+        )
     })?;
     let (lat, lon) = args.observer.lat_lon("")?;
     let req = request(time, lat, lon, args.observer.elevation).map_err(CliError::input)?;
@@ -120,32 +122,12 @@ fn run_batch(path: &str, bodies: &[Body], precision: Precision) -> Result<(), Cl
     for (i, line) in reader.lines().enumerate() {
         let n = i + 1;
         let line = line.map_err(|e| CliError::input(format!("--batch: line {n}: {e}")))?;
-        let line = line.trim();
-        if line.is_empty() || (n == 1 && line.replace(' ', "") == "time,lat,lon,elevation_m") {
-            continue;
+        if let Some(b) = parse_batch_line(n, &line).map_err(CliError::input)? {
+            requests.push(Request {
+                utc: b.utc,
+                observer: b.observer,
+            });
         }
-        let cols: Vec<&str> = line.split(',').map(str::trim).collect();
-        if cols.len() != 4 {
-            return Err(CliError::input(format!(
-                "--batch: line {n}: expected 4 columns time,lat,lon,elevation_m, found {}",
-                cols.len()
-            )));
-        }
-        let num = |s: &str, what: &str| -> Result<f64, CliError> {
-            s.parse::<f64>().map_err(|_| {
-                CliError::input(format!("--batch: line {n}: {what} '{s}' is not a number"))
-            })
-        };
-        let req = request(
-            cols[0],
-            num(cols[1], "lat")?,
-            num(cols[2], "lon")?,
-            num(cols[3], "elevation_m")?,
-        )
-        .map_err(|e| {
-            CliError::input(format!("--batch: line {n}: {}", e.trim_start_matches("--")))
-        })?;
-        requests.push(req);
     }
     let stdout = std::io::stdout();
     let mut out = std::io::BufWriter::new(stdout.lock());

@@ -11,18 +11,20 @@ use himmel_astro::events::solar_eclipse::{
     local_solar_eclipses, local_solar_eclipses_preferring_de421, solar_eclipses,
 };
 use himmel_astro::events::{MAX_SEARCH_DAYS, MAX_SEARCH_JD, MIN_SEARCH_JD};
-use himmel_astro::{AstroError, Body, Instant, Precision, Tiered, UtcDateTime};
+use himmel_astro::{AstroError, Body, Instant, Precision, Tiered};
 use serde_json::{json, Value};
 
 use crate::common;
 use crate::ephemeris_cmd::parse_precision;
-use crate::timearg::{format_utc, parse_rfc3339};
+use crate::timearg::{format_date, format_utc, parse_date, parse_date_or_time};
 use crate::{CliError, Format};
 
 /// Interval flags shared by `phases` and `eclipses`.
 #[derive(Args, Debug)]
 pub struct IntervalArgs {
-    /// Start of the interval: YYYY-MM-DD (0h UTC) or RFC 3339.
+    /// Start of the interval: YYYY-MM-DD (0h UTC) or RFC 3339; Julian
+    /// calendar before 1582-10-15, signed years outside 0000-9999
+    /// (-0500-03-01, as the event commands print them).
     #[arg(long, value_name = "DATE")]
     from: String,
     /// End of the interval (exclusive): YYYY-MM-DD (0h UTC) or RFC 3339; at
@@ -95,43 +97,10 @@ pub struct EclipsesArgs {
     format: Format,
 }
 
-/// Parses `YYYY-MM-DD` (0h UTC) or an RFC 3339 time for `flag`.
-fn parse_date_or_time(flag: &str, s: &str) -> Result<UtcDateTime, String> {
-    let t = s.trim();
-    if t.len() == 10 && t.as_bytes().get(4) == Some(&b'-') {
-        let (y, m, d) = parse_ymd(flag, t)?;
-        return UtcDateTime::new(y, m, d, 0, 0, 0.0)
-            .map_err(|e| format!("{flag}: '{s}' is not a valid date ({e}); expected YYYY-MM-DD"));
-    }
-    parse_rfc3339(t).map_err(|e| format!("{flag}: {e}"))
-}
-
-/// Parses `YYYY-MM-DD`.
-fn parse_ymd(flag: &str, s: &str) -> Result<(i32, u8, u8), String> {
-    let fail = || format!("{flag}: '{s}' is not a date; expected YYYY-MM-DD");
-    let b = s.trim().as_bytes();
-    if b.len() != 10 || b[4] != b'-' || b[7] != b'-' {
-        return Err(fail());
-    }
-    let digits = |r: core::ops::Range<usize>| -> Result<u32, String> {
-        let part = &s.trim()[r];
-        if part.bytes().all(|c| c.is_ascii_digit()) {
-            part.parse().map_err(|_| fail())
-        } else {
-            Err(fail())
-        }
-    };
-    let (y, m, d) = (digits(0..4)?, digits(5..7)?, digits(8..10)?);
-    if !(1..=12).contains(&m) || !(1..=31).contains(&d) {
-        return Err(fail());
-    }
-    Ok((y as i32, m as u8, d as u8))
-}
-
 /// The validated interval as instants.
 fn interval(args: &IntervalArgs) -> Result<(Instant, Instant), CliError> {
-    let from = parse_date_or_time("--from", &args.from).map_err(CliError::input)?;
-    let to = parse_date_or_time("--to", &args.to).map_err(CliError::input)?;
+    let from = parse_date_or_time("--from", &args.from, false).map_err(CliError::input)?;
+    let to = parse_date_or_time("--to", &args.to, false).map_err(CliError::input)?;
     let a = Instant::from_utc(&from).map_err(|e| CliError::input(format!("--from: {e}")))?;
     let b = Instant::from_utc(&to).map_err(|e| CliError::input(format!("--to: {e}")))?;
     if b.jd_tt < a.jd_tt {
@@ -212,13 +181,7 @@ pub fn run_riseset(args: &RiseSetArgs) -> Result<(), CliError> {
             args.body
         ))
     })?;
-    let (y, m, d) = parse_ymd("--date", &args.date).map_err(CliError::input)?;
-    UtcDateTime::new(y, m, d, 0, 0, 0.0).map_err(|e| {
-        CliError::input(format!(
-            "--date: '{}' is not a valid date ({e}); expected YYYY-MM-DD",
-            args.date
-        ))
-    })?;
+    let (y, m, d) = parse_date("--date", &args.date).map_err(CliError::input)?;
     let obs = args.observer.observer("")?;
     let day = rise_set_transit(&eph, body, &obs, y, m, d).map_err(astro)?;
     let events: Vec<Value> = day
@@ -227,7 +190,7 @@ pub fn run_riseset(args: &RiseSetArgs) -> Result<(), CliError> {
         .map(|e| json!({"event": e.kind.name(), "utc": utc_of(&e.instant)}))
         .collect();
     let doc = json!({
-        "date": format!("{y:04}-{m:02}-{d:02}"),
+        "date": format_date(y, m, d),
         "body": body.name(),
         "state": day.state.name(),
         "events": events,

@@ -10,7 +10,8 @@ mod events_cmd;
 mod render_cmd;
 mod sequence_cmd;
 mod stars_cmd;
-mod timearg;
+
+use himmel_cli::timearg;
 
 use std::process::ExitCode;
 
@@ -150,7 +151,10 @@ fn main() -> ExitCode {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
             if !e.message.is_empty() {
-                eprintln!("error: {}", e.message.replace('\n', " "));
+                // One line, and no control character from an input reaches
+                // the terminal.
+                let one_line = e.message.replace('\n', " ");
+                eprintln!("error: {}", himmel_cli::inputs::printable(&one_line));
             }
             ExitCode::from(e.code)
         }

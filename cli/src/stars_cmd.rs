@@ -18,7 +18,9 @@ use crate::{CliError, Format};
 
 #[derive(Args, Debug)]
 pub struct StarsArgs {
-    /// Instant, RFC 3339 civil UTC (e.g. 2024-04-08T18:42:00Z) or `now`.
+    /// Instant: RFC 3339 civil UTC (e.g. 2024-04-08T18:42:00Z), a date
+    /// YYYY-MM-DD (0h UTC) or `now`. Julian calendar before 1582-10-15,
+    /// signed years outside 0000-9999 (-0500-03-01T12:00:00Z).
     #[arg(long, value_name = "TIME")]
     time: Option<String>,
     #[command(flatten)]
@@ -72,7 +74,9 @@ fn round(x: f64, digits: i32) -> f64 {
 
 pub fn run(args: &StarsArgs) -> Result<(), CliError> {
     let time = args.time.as_deref().ok_or_else(|| {
-        CliError::input("--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, or now)")
+        CliError::input(
+            "--time is required (RFC 3339 UTC, e.g. 2024-04-08T18:42:00Z, a date, or now)",
+        )
     })?;
     let (lat, lon) = args.observer.lat_lon("")?;
     let utc = parse_time(time).map_err(CliError::input)?;

@@ -371,3 +371,144 @@ fn local_solar_eclipses_default_to_the_de421_moon() {
     let off = (day_seconds(&default["c2_utc"]) - day_seconds(&standard["c2_utc"])).abs();
     assert!(off > 5.0, "standard C2 only {off} s from the default");
 }
+
+/// Issue 19, one calendar in and out: every `greatest_utc` that `eclipses`
+/// prints for −1999 … +3000 (Julian calendar before 1582-10-15, signed
+/// years) is read back by `ephemeris` (`--batch`, which parses each line's
+/// time as `--time` does) as the same text.
+#[test]
+fn every_printed_eclipse_time_reads_back_unchanged() {
+    let chunks = [
+        ("-1999-01-01", "-0999-01-01"),
+        ("-0999-01-01", "0001-01-01"),
+        ("0001-01-01", "1001-01-01"),
+        ("1001-01-01", "2001-01-01"),
+        ("2001-01-01", "3001-01-01"),
+    ];
+    let mut times = Vec::new();
+    for kind in ["solar", "lunar"] {
+        for (from, to) in chunks {
+            let from = format!("--from={from}");
+            let to = format!("--to={to}");
+            let v = json(&himmel(&[
+                "eclipses", "--kind", kind, &from, &to, "--format", "json",
+            ]));
+            for e in v.as_array().unwrap() {
+                times.push(e["greatest_utc"].as_str().unwrap().to_owned());
+            }
+        }
+    }
+    // 2.4 solar and 2.4 lunar eclipses a year on average (Espenak & Meeus).
+    assert!(times.len() > 22_000, "{}", times.len());
+    assert!(times.iter().any(|t| t.starts_with('-')));
+    assert!(times.iter().any(|t| t.contains("-02-29T")));
+    let dir = std::env::temp_dir().join(format!("himmel-calendar-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let csv = dir.join("times.csv");
+    let text: String = times.iter().map(|t| format!("{t},0,0,0\n")).collect();
+    std::fs::write(&csv, text).unwrap();
+    let out = himmel(&[
+        "ephemeris",
+        "--batch",
+        csv.to_str().unwrap(),
+        "--body",
+        "sun",
+    ]);
+    let _ = std::fs::remove_dir_all(&dir);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8(out.stdout).unwrap();
+    let lines: Vec<&str> = stdout.lines().collect();
+    assert_eq!(lines.len(), times.len());
+    for (line, t) in lines.iter().zip(&times) {
+        let v: serde_json::Value = serde_json::from_str(line).unwrap();
+        assert_eq!(v["time_utc"].as_str().unwrap(), t);
+    }
+}
+
+/// Negative and five-digit years, date-only and full, on every flag that
+/// takes a time; 1582 October 5–14 do not exist.
+#[test]
+fn signed_years_and_the_gregorian_switch_on_the_command_line() {
+    let v = json(&himmel(&[
+        "ephemeris",
+        "--time=-0500-01-01",
+        "--lat",
+        "0",
+        "--lon",
+        "0",
+        "--body",
+        "sun",
+        "--format",
+        "json",
+    ]));
+    assert_eq!(v["time_utc"], "-0500-01-01T00:00:00.000Z");
+    let v = json(&himmel(&[
+        "ephemeris",
+        "--time",
+        "+10000-01-01T12:00:00Z",
+        "--lat",
+        "0",
+        "--lon",
+        "0",
+        "--body",
+        "sun",
+        "--format",
+        "json",
+    ]));
+    assert_eq!(v["time_utc"], "+10000-01-01T12:00:00.000Z");
+    let v = json(&himmel(&[
+        "phases",
+        "--from=-0500-01-01",
+        "--to=-0500-02-01",
+        "--format",
+        "json",
+    ]));
+    assert!(v[0]["utc"].as_str().unwrap().starts_with("-0500-01-"));
+    let v = json(&himmel(&[
+        "riseset",
+        "--body",
+        "sun",
+        "--date=-0500-03-01",
+        "--lat",
+        "40",
+        "--lon",
+        "0",
+        "--format",
+        "json",
+    ]));
+    assert_eq!(v["date"], "-0500-03-01");
+    // October 4 (Julian) 12h to October 15 (Gregorian) 12h is one day.
+    let jd = |t: &str| {
+        json(&himmel(&[
+            "ephemeris",
+            "--time",
+            t,
+            "--lat",
+            "0",
+            "--lon",
+            "0",
+            "--body",
+            "sun",
+            "--format",
+            "json",
+        ]))["jd_tt"]
+            .as_f64()
+            .unwrap()
+    };
+    let d = jd("1582-10-15T12:00:00Z") - jd("1582-10-04T12:00:00Z");
+    assert!((d - 1.0).abs() < 1e-6, "{d}");
+    for bad in ["--time=1582-10-10", "--time=1582-10-10T00:00:00Z"] {
+        let out = himmel(&["ephemeris", bad, "--lat", "0", "--lon", "0"]);
+        assert_eq!(out.status.code(), Some(2));
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            err.starts_with("error: --time:") && err.contains("Gregorian reform"),
+            "{err}"
+        );
+        assert_eq!(err.lines().count(), 1);
+    }
+}

@@ -19,11 +19,25 @@ impl std::fmt::Display for SceneError {
 impl std::error::Error for SceneError {}
 
 impl SceneError {
-    /// An error of `field`.
+    /// An error of `field`; control characters that came from the input
+    /// (a key or string with a newline) are escaped, so that the message
+    /// stays one printable line.
     pub fn new(field: &str, message: impl Into<String>) -> Self {
         SceneError {
-            field: field.into(),
-            message: message.into(),
+            field: printable(field),
+            message: printable(&message.into()),
         }
     }
+}
+
+/// `s` with control characters escaped (`\n`, `\u{1b}`): text taken from
+/// an input and shown in a one-line error.
+pub fn printable(s: &str) -> String {
+    s.chars()
+        .flat_map(|c| {
+            let escaped = c.is_control().then(|| c.escape_default());
+            let plain = (!c.is_control()).then_some(c);
+            escaped.into_iter().flatten().chain(plain)
+        })
+        .collect()
 }

@@ -9,6 +9,7 @@ use crate::moon::MoonState;
 pub use crate::plan::PlannedPass;
 use crate::projection::enu_from_alt_az;
 use crate::scene::{Effect, Scene, SceneError};
+use crate::scene_error::printable;
 use crate::spectrum::BandWeights;
 pub use crate::sun::SunState;
 
@@ -44,7 +45,8 @@ pub fn parse_utc(s: &str) -> Result<UtcDateTime, SceneError> {
     } else {
         himmel_astro::time::parse_rfc3339(s).map_err(|e| {
             err(format!(
-                "'{s}' is not an RFC 3339 time ({e}); expected e.g. 2024-04-08T18:42:00Z or now"
+                "'{}' is not an RFC 3339 time ({e}); expected e.g. 2024-04-08T18:42:00Z or now",
+                printable(s)
             ))
         })
     }

@@ -157,12 +157,18 @@ pub struct SkyLightSettings {
     /// Face size of the sky cube map the environment light is built from,
     /// texels, in [8, 512] (default 64).
     pub cube_face: u32,
-    /// Directions over the sphere from which the world's occlusion of the
-    /// sky is sampled (one visibility map each; half of them in the upper
+    /// Directions per set from which the world's occlusion of the sky is
+    /// sampled (one visibility map each; half of them in the upper
     /// hemisphere, which alone count over a ground plane), in [8, 256]
-    /// (default 160).
+    /// (default 64).
     pub directions: u32,
-    /// Side of each visibility map, texels, in [64, 4096] (default 512).
+    /// Interleaving: N × N sets of directions, one per pixel of each N × N
+    /// block, blurred over the block where the surface is continuous
+    /// (Keller & Heidrich 2001's interleaved sampling, as Tóth &
+    /// Umenhoffer 2009 use it for light shafts), in [1, 4] (default 4:
+    /// 16 sets). Fewer when the adapter holds fewer map layers.
+    pub interleave: u32,
+    /// Side of each visibility map, texels, in [64, 4096] (default 256).
     pub visibility_resolution: u32,
     /// The environment light is rebuilt when the Sun or Moon moved more
     /// than this, degrees, in [0, 10] (default 0.05; 0 = every frame).
@@ -173,8 +179,9 @@ impl Default for SkyLightSettings {
     fn default() -> Self {
         SkyLightSettings {
             cube_face: 64,
-            directions: 160,
-            visibility_resolution: 512,
+            directions: 64,
+            interleave: 4,
+            visibility_resolution: 256,
             reuse_tolerance_deg: 0.05,
         }
     }
@@ -212,6 +219,7 @@ impl LightingSpec {
             ("lighting.shadows.split_lambda", s.split_lambda, 0.0, 1.0),
             ("lighting.sky.cube_face", k.cube_face as f64, 8.0, 512.0),
             ("lighting.sky.directions", k.directions as f64, 8.0, 256.0),
+            ("lighting.sky.interleave", k.interleave as f64, 1.0, 4.0),
             (
                 "lighting.sky.visibility_resolution",
                 k.visibility_resolution as f64,

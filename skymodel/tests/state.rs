@@ -57,7 +57,7 @@ fn pass_plan_reasons() {
         .unwrap()
         .starts_with("not available yet"));
     assert_eq!(reason(Effect::Moon).as_deref(), Some("not requested"));
-    assert_eq!(st.passes.len(), 7);
+    assert_eq!(st.passes.len(), Effect::ALL.len());
 }
 
 #[test]

@@ -34,7 +34,7 @@ pub use delta_t::{
     morrison_stephenson_2004, ut1_minus_utc, JOIN_FADE_YEARS, SEAM_RAMP_YEARS,
 };
 pub use leap_seconds::{tai_minus_utc, JD_UTC_1972};
-pub use rfc3339::{parse_rfc3339, Rfc3339Error};
+pub use rfc3339::{parse_date, parse_date_or_rfc3339, parse_rfc3339, Rfc3339Error};
 pub use sidereal::{gast, gmst};
 
 use crate::error::AstroError;

@@ -137,16 +137,25 @@ impl LightingPasses {
         self.world.as_ref()
     }
 
-    /// The directions of the sky cells for `scene` (upper hemisphere only
-    /// over a ground plane).
-    pub fn cell_directions(scene: &Scene) -> Vec<Vec3> {
+    /// The directions of the sky cells for `scene` and how many
+    /// interleaved sets they form: `lighting.sky.directions` per set (all
+    /// in the upper hemisphere over a ground plane, else half in each),
+    /// `interleave`² sets, fewer when the adapter's texture arrays hold
+    /// fewer than `max_layers` maps.
+    pub fn cell_directions(scene: &Scene, max_layers: u32) -> (Vec<Vec3>, usize) {
         let ground = scene.world.as_ref().is_some_and(|w| w.ground);
         let n = scene.lighting.sky.directions as usize;
-        if ground {
-            view::hemisphere_directions(n / 2, false)
-        } else {
-            view::hemisphere_directions(n / 2, true)
+        let mut side = scene.lighting.sky.interleave.max(1) as usize;
+        while side > 1 && side * side * n > max_layers as usize {
+            side -= 1;
         }
+        let sets = side * side;
+        let dirs = if ground {
+            view::direction_sets(n, false, sets)
+        } else {
+            view::direction_sets(n / 2, true, sets)
+        };
+        (dirs, sets)
     }
 
     /// Renders the world into `target` (rgba32float, the frame's sky
@@ -335,11 +344,16 @@ impl LightingPasses {
         };
         let tables = self.tables.get_or_insert_with(|| ShadeTables::new(gpu));
         if let Some(env) = inputs.env {
-            if inputs.env_changed || !tables.has_env() {
-                let res = inputs.scene.lighting.sky.visibility_resolution;
-                let texel = world.bounds.map_or(0.0, |b| b.extent() * 1.01 / res as f32);
-                tables.upload_env(gpu, env, texel);
-            }
+            // The cells carry the visibility maps' texel and depth range,
+            // which follow the world: written every frame (kilobytes); the
+            // prefiltered maps only when the sky changed.
+            let res = inputs.scene.lighting.sky.visibility_resolution;
+            let extent = world.bounds.map_or(0.0, |b| b.extent());
+            let texel = extent * 1.01 / res as f32;
+            // The maps' depth range: the bounds' extent along any direction
+            // plus ortho_light's 0.5 m margins.
+            let specular = inputs.env_changed || !tables.has_env();
+            tables.upload_env(gpu, env, texel, extent + 1.0, specular);
         }
         let air_scale = inputs.air.map(|a| tables.upload_air(gpu, a));
         let u = shade_uniforms(
@@ -384,12 +398,41 @@ impl LightingPasses {
                 tv(&tables.air_t),
             ],
         );
+        let sky_out = bind_group(
+            &gpu.device,
+            "sky out",
+            &pipes.sky_out_layout,
+            &[tv(&gb.sky[0]), tv(&gb.sky[1])],
+        );
+        let sky_in = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sky in"),
+            layout: &pipes.sky_in_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: tv(&gb.sky[0]),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: tv(&gb.sky[1]),
+                },
+            ],
+        });
         let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let groups = (cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
+        if inputs.env.is_some() {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipes.sky);
+            pass.set_bind_group(0, &group, &[]);
+            pass.set_bind_group(1, &sky_out, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+        }
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_pipeline(&pipes.shade);
             pass.set_bind_group(0, &group, &[]);
-            pass.dispatch_workgroups(cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
+            pass.set_bind_group(1, &sky_in, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
         }
         gpu.queue.submit([enc.finish()]);
         gpu.wait()?;
@@ -451,12 +494,22 @@ fn shade_uniforms(
         fog,
         scales: [env_scale, ap_scale, ap_max, ap_slices],
         counts: [
-            inputs.env.map_or(0, |e| e.cells.len() as u32),
+            inputs
+                .env
+                .map_or(0, |e| (e.cells.len() / e.sets.max(1)) as u32),
             if sun_dir[3] > 0.0 { sun_layers } else { 0 },
             if moon_dir[3] > 0.0 { moon_layers } else { 0 },
             filter,
         ],
-        flags: [inputs.env.is_some() as u32, sun_layers, 0, 0],
+        flags: [
+            inputs.env.is_some() as u32,
+            sun_layers,
+            inputs
+                .env
+                .map_or(1, |e| (e.sets as f64).sqrt().round() as u32)
+                .max(1),
+            0,
+        ],
         cascade,
         cascade_info,
     }

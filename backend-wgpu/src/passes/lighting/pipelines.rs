@@ -35,6 +35,12 @@ pub struct Pipelines {
     pub depth_layout: wgpu::BindGroupLayout,
     /// The lighting compute pass.
     pub shade: wgpu::ComputePipeline,
+    /// The sky pass (each pixel's interleaved set of cells).
+    pub sky: wgpu::ComputePipeline,
+    /// Group 1 of the sky pass: its two outputs as storage textures.
+    pub sky_out_layout: wgpu::BindGroupLayout,
+    /// Group 1 of the lighting pass: the sky pass's outputs as textures.
+    pub sky_in_layout: wgpu::BindGroupLayout,
     /// Its group 0 (shade.wgsl's bindings 0–16).
     pub shade_layout: wgpu::BindGroupLayout,
     /// Trilinear, repeating (base colour).
@@ -136,10 +142,42 @@ impl Pipelines {
             "shade.wgsl",
             include_str!("../../shaders/lighting/shade.wgsl"),
         );
+        let c = wgpu::ShaderStages::COMPUTE;
+        let storage = |binding, format| {
+            entry(
+                binding,
+                c,
+                wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+            )
+        };
+        let sky_out_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sky out"),
+            entries: &[
+                storage(0, wgpu::TextureFormat::Rgba32Float),
+                storage(1, wgpu::TextureFormat::R32Float),
+            ],
+        });
+        let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
+        let sky_in_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sky in"),
+            entries: &[
+                entry(2, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+                entry(3, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            ],
+        });
         let shade = gpu.compute_pipeline(
-            &gpu.pipeline_layout("shade", &[&shade_layout]),
+            &gpu.pipeline_layout("shade", &[&shade_layout, &sky_in_layout]),
             &smod,
             "shade",
+        );
+        let sky = gpu.compute_pipeline(
+            &gpu.pipeline_layout("sky", &[&shade_layout, &sky_out_layout]),
+            &smod,
+            "sky",
         );
         let sampler = |label, mode, compare| {
             dev.create_sampler(&wgpu::SamplerDescriptor {
@@ -161,6 +199,9 @@ impl Pipelines {
             depth_layout,
             shade,
             shade_layout,
+            sky,
+            sky_out_layout,
+            sky_in_layout,
             repeat: sampler("repeat", wgpu::AddressMode::Repeat, None),
             clamp: sampler("clamp", wgpu::AddressMode::ClampToEdge, None),
             compare: sampler(

@@ -48,6 +48,9 @@ pub struct GBuffer {
     pub views: Vec<wgpu::TextureView>,
     /// The depth target (reversed Z).
     pub depth: wgpu::TextureView,
+    /// The sky pass's outputs: irradiance + open fraction (rgba32float),
+    /// specular visibility (r32float).
+    pub sky: [wgpu::TextureView; 2],
 }
 
 impl GBuffer {
@@ -74,11 +77,20 @@ impl GBuffer {
             .collect();
         let depth = texture(gpu, "gbuffer depth", (w, h, 1), d2, DEPTH_FORMAT, usage)
             .create_view(&Default::default());
+        let sky_use = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+        let sky = [
+            wgpu::TextureFormat::Rgba32Float,
+            wgpu::TextureFormat::R32Float,
+        ]
+        .map(|f| {
+            texture(gpu, "sky light", (w, h, 1), d2, f, sky_use).create_view(&Default::default())
+        });
         GBuffer {
             size: (w, h),
             textures,
             views,
             depth,
+            sky,
         }
     }
 }
@@ -506,19 +518,30 @@ impl ShadeTables {
         self.env_scale
     }
 
-    /// Uploads the sky cells (with their visibility maps' texel sizes) and
-    /// the prefiltered environment.
-    pub fn upload_env(&mut self, gpu: &Gpu, env: &EnvLight, texel_m: f32) {
+    /// Uploads the sky cells (with their visibility maps' texel size and
+    /// depth range, m, and the tangent of each cell's cone) and the
+    /// prefiltered environment (when `specular`).
+    pub fn upload_env(
+        &mut self,
+        gpu: &Gpu,
+        env: &EnvLight,
+        texel_m: f32,
+        depth_m: f32,
+        specular: bool,
+    ) {
         let cells: Vec<[f32; 16]> = env
             .cells
             .iter()
             .map(|c| {
                 let mut v = [0.0f32; 16];
                 v[..4].copy_from_slice(&[c.dir.x, c.dir.y, c.dir.z, texel_m]);
+                // The cone of the cell's solid angle Ω: cos ρ = 1 − Ω / 2π.
+                let cos_rho = (1.0 - c.solid_angle / std::f32::consts::TAU).clamp(-1.0, 1.0);
+                let tan_rho = (1.0 - cos_rho * cos_rho).max(0.0).sqrt() / cos_rho.max(1e-3);
+                let w = [c.solid_angle, depth_m, tan_rho.min(4.0)];
                 for ch in 0..3 {
                     let m = c.moment[ch];
-                    let w = if ch == 0 { c.solid_angle } else { 0.0 };
-                    v[4 + 4 * ch..8 + 4 * ch].copy_from_slice(&[m.x, m.y, m.z, w]);
+                    v[4 + 4 * ch..8 + 4 * ch].copy_from_slice(&[m.x, m.y, m.z, w[ch]]);
                 }
                 v
             })
@@ -534,6 +557,9 @@ impl ShadeTables {
                 }),
                 usage: wgpu::BufferUsages::STORAGE,
             });
+        if !specular {
+            return;
+        }
         self.env_scale = half_scale(env.max_radiance);
         let k = 1.0 / self.env_scale;
         let (sw, sh) = SPECULAR_SIZE;

@@ -250,18 +250,32 @@ pub fn cascades(
 /// (a Fibonacci spiral in cos θ), then, when `lower`, as many mirrored
 /// into the lower hemisphere.
 pub fn hemisphere_directions(n: usize, lower: bool) -> Vec<Vec3> {
+    direction_sets(n, lower, 1)
+}
+
+/// `sets` interleaved sets of [`hemisphere_directions`], set after set:
+/// set s shifts the spiral by (s + ½)/sets of a stratum in cos θ and turns
+/// it by s/sets of a turn, so that together the sets sample the sphere
+/// `sets` times more finely than each alone.
+pub fn direction_sets(n: usize, lower: bool, sets: usize) -> Vec<Vec3> {
     let golden = std::f32::consts::PI * (3.0 - 5.0f32.sqrt());
-    let mut out: Vec<Vec3> = (0..n)
-        .map(|i| {
-            let y = 1.0 - (i as f32 + 0.5) / n as f32;
-            let r = (1.0 - y * y).max(0.0).sqrt();
-            let phi = golden * i as f32;
-            Vec3::new(r * phi.cos(), y, r * phi.sin())
-        })
-        .collect();
-    if lower {
-        let mirrored: Vec<Vec3> = out.iter().map(|d| Vec3::new(d.x, -d.y, d.z)).collect();
-        out.extend(mirrored);
+    let mut out = Vec::with_capacity(n * sets * 2);
+    for s in 0..sets.max(1) {
+        let shift = (s as f32 + 0.5) / sets.max(1) as f32;
+        let turn = std::f32::consts::TAU * s as f32 / sets.max(1) as f32;
+        let upper: Vec<Vec3> = (0..n)
+            .map(|i| {
+                let y = 1.0 - (i as f32 + shift) / n as f32;
+                let r = (1.0 - y * y).max(0.0).sqrt();
+                let phi = golden * i as f32 + turn;
+                Vec3::new(r * phi.cos(), y, r * phi.sin())
+            })
+            .collect();
+        let mirrored: Vec<Vec3> = upper.iter().map(|d| Vec3::new(d.x, -d.y, d.z)).collect();
+        out.extend(upper);
+        if lower {
+            out.extend(mirrored);
+        }
     }
     out
 }
@@ -325,12 +339,15 @@ mod tests {
             assert!((0.0..=1.0).contains(&p.z), "{p}");
         }
         assert!(cs.windows(2).all(|w| w[0].texel_m <= w[1].texel_m));
-        // A tiny world fits one cascade.
+        // A small world needs fewer cascades than asked for: the first one
+        // that would cover it whole ends the list.
         let small = Aabb {
             min: Vec3::splat(-1.0),
             max: Vec3::splat(1.0),
         };
-        assert_eq!(cascades(&cam, dir, &small, 3, 500.0, 0.75, 1024).len(), 1);
+        let cs = cascades(&cam, dir, &small, 4, 500.0, 0.75, 1024);
+        assert!(cs.len() < 4, "{}", cs.len());
+        assert_eq!(cs.last().unwrap().split_m, f32::INFINITY);
     }
 
     #[test]

@@ -83,6 +83,13 @@ struct SkyCell {
 @group(0) @binding(14) var lin: sampler;
 @group(0) @binding(15) var air_in: texture_3d<f32>;
 @group(0) @binding(16) var air_t: texture_3d<f32>;
+// The sky pass writes, the shade pass reads: per pixel the sky's diffuse
+// irradiance (rgb) and the open fraction of the sky (a), and the
+// visibility of the cell nearest the reflected ray.
+@group(1) @binding(0) var sky_e_out: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(1) var sky_s_out: texture_storage_2d<r32float, write>;
+@group(1) @binding(2) var sky_e_in: texture_2d<f32>;
+@group(1) @binding(3) var sky_s_in: texture_2d<f32>;
 
 const PI: f32 = 3.14159265358979;
 const SPECULAR_LEVELS: f32 = 5.0;
@@ -95,7 +102,21 @@ fn inside(uv: vec2<f32>) -> bool {
     return all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
 }
 
-// Visibility of sky cell k from point p with normal n.
+// The receiver's own plane in a light map: its depth (map units) changes
+// by dot(o, g) at an offset of o texels from the receiver, so that a
+// lookup there compares against the plane and never finds the receiver as
+// its own blocker (receiver-plane depth bias). m: the map's matrix (rows:
+// right / half, up / half), ld: towards the light.
+fn plane_gradient(m: mat4x4<f32>, n: vec3<f32>, ld: vec3<f32>, texel: f32, depth_m: f32) -> vec2<f32> {
+    let right = normalize(vec3<f32>(m[0].x, m[1].x, m[2].x));
+    let up = normalize(vec3<f32>(m[0].y, m[1].y, m[2].y));
+    let nl = max(dot(n, ld), 0.05);
+    // Texel offsets run along +right and −up (image rows go down).
+    return vec2<f32>(dot(n, right), -dot(n, up)) * texel / (nl * depth_m);
+}
+
+// Visibility of sky cell k from point p with normal n: one bilinear
+// depth comparison in the cell's map along the cell's direction.
 fn cell_visibility(k: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
     let c = cells[k];
     let q = p + n * (1.5 * c.dir.w);
@@ -146,8 +167,7 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, vie
     // across the map it lies x·tan(n, l) deeper or shallower. Lookups x
     // away are biased by that much, so a wide filter does not find the
     // receiver itself as its blocker.
-    let nl = max(dot(n, ld), 0.05);
-    let slope = sqrt(max(1.0 - nl * nl, 0.0)) / nl / depth_m;
+    let g = plane_gradient(u.cascade[layer], n, ld, texel, depth_m);
     let mode = u.counts.w;
     if mode == 0u {
         let t = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
@@ -159,7 +179,7 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, vie
             for (var dx = -1; dx <= 1; dx++) {
                 let q2 = vec2<f32>(f32(dx), f32(dy));
                 let o = q2 / size;
-                sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z - length(q2) * texel * slope);
+                sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z + dot(q2, g));
             }
         }
         return sum / 9.0;
@@ -176,7 +196,7 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, vie
         let o = q2 / size;
         let t = vec2<i32>(clamp((uv + o) * size, vec2<f32>(0.0), size - 1.0));
         let d = textureLoad(shadows, t, i32(layer), 0);
-        if d < z - length(q2) * texel * slope {
+        if d < z + dot(q2, g) - 2e-4 {
             blockers += 1.0;
             zb += d;
         }
@@ -192,7 +212,7 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, vie
     for (var i = 0u; i < taps; i++) {
         let q2 = disk(i, taps, rot) * radius;
         let o = q2 / size;
-        sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z - length(q2) * texel * slope);
+        sum += textureSampleCompareLevel(shadows, cmp_sampler, uv + o, i32(layer), z + dot(q2, g));
     }
     return sum / f32(taps);
 }
@@ -268,6 +288,68 @@ fn fog_length(p: vec3<f32>) -> f32 {
     return len * (top - lo) / (hi - lo);
 }
 
+// The view ray through the centre of pixel q.
+fn pixel_ray(q: vec2<i32>, w: u32, h: u32) -> vec3<f32> {
+    let t = u.eye.w;
+    let nx = (f32(q.x) + 0.5 - 0.5 * f32(w)) / (0.5 * f32(h)) * t;
+    let ny = -(f32(q.y) + 0.5 - 0.5 * f32(h)) / (0.5 * f32(h)) * t;
+    return normalize(u.forward.xyz + u.right.xyz * nx + u.up.xyz * ny);
+}
+
+// The sky pass: this pixel's set of cells (its place in the N × N block),
+// each cell's first moment seen through its visibility map.
+@compute @workgroup_size(8, 8)
+fn sky(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let w = u32(u.right.w);
+    let h = u32(u.up.w);
+    if gid.x >= w || gid.y >= h {
+        return;
+    }
+    let px = vec2<i32>(gid.xy);
+    if textureLoad(g_material, px, 0).x == 0u {
+        return;
+    }
+    let dist = textureLoad(g_distance, px, 0).x;
+    let n = normalize(textureLoad(g_normal, px, 0).xyz);
+    let ray = pixel_ray(px, w, h);
+    let p = u.eye.xyz + ray * dist;
+    let r = reflect(ray, n);
+    let side = u.flags.z;
+    let cell_set = (gid.x % side) + (gid.y % side) * side;
+    let per = u.counts.x;
+    var e = vec3<f32>(0.0);
+    var best = -2.0;
+    var spec_vis = 1.0;
+    var open_sum = 0.0;
+    var open_all = 0.0;
+    for (var j = 0u; j < per; j++) {
+        let k = cell_set * per + j;
+        let c = cells[k];
+        let proj = vec3<f32>(dot(n, c.r.xyz), dot(n, c.g.xyz), dot(n, c.b.xyz));
+        let upper = c.dir.y > 0.0;
+        let near_r = dot(r, c.dir.xyz);
+        if !(any(proj > vec3<f32>(0.0)) || upper || near_r > best) {
+            continue;
+        }
+        let vis = cell_visibility(k, p, n);
+        e += max(proj, vec3<f32>(0.0)) * vis;
+        if near_r > best {
+            best = near_r;
+            spec_vis = vis;
+        }
+        if upper {
+            open_sum += vis * c.r.w;
+            open_all += c.r.w;
+        }
+    }
+    var open = 1.0;
+    if open_all > 0.0 {
+        open = open_sum / open_all;
+    }
+    textureStore(sky_e_out, px, vec4<f32>(e, open));
+    textureStore(sky_s_out, px, vec4<f32>(spec_vis, 0.0, 0.0, 0.0));
+}
+
 @compute @workgroup_size(8, 8)
 fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     let w = u32(u.right.w);
@@ -284,10 +366,7 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     let dist = textureLoad(g_distance, px, 0).x;
     let nr = textureLoad(g_normal, px, 0);
     let bm = textureLoad(g_base, px, 0);
-    let t = u.eye.w;
-    let nx = (f32(gid.x) + 0.5 - 0.5 * f32(w)) / (0.5 * f32(h)) * t;
-    let ny = -(f32(gid.y) + 0.5 - 0.5 * f32(h)) / (0.5 * f32(h)) * t;
-    let ray = normalize(u.forward.xyz + u.right.xyz * nx + u.up.xyz * ny);
+    let ray = pixel_ray(px, w, h);
     let p = u.eye.xyz + ray * dist;
     var s: Surface;
     s.n = normalize(nr.xyz);
@@ -330,33 +409,43 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
             l += f * e * vis;
         }
     }
-    // The sky: every cell's first moment, seen through its visibility map.
+    // The sky: the irradiance of the interleaved sets, averaged over the
+    // N × N block around the pixel where the surface continues.
     var open = 1.0;
     if u.flags.x == 1u {
-        var e = vec3<f32>(0.0);
+        let side = i32(u.flags.z);
+        let lo = -(side / 2);
+        var acc = vec4<f32>(0.0);
+        var acc_s = 0.0;
+        var wsum = 0.0;
+        for (var dy = lo; dy < lo + side; dy++) {
+            for (var dx = lo; dx < lo + side; dx++) {
+                let q = px + vec2<i32>(dx, dy);
+                if any(q < vec2<i32>(0)) || q.x >= i32(w) || q.y >= i32(h) {
+                    continue;
+                }
+                if textureLoad(g_material, q, 0).x == 0u {
+                    continue;
+                }
+                let nq = textureLoad(g_normal, q, 0).xyz;
+                let dq = textureLoad(g_distance, q, 0).x;
+                // The same surface: a similar normal and a distance on the
+                // plane through this pixel (within 2 %).
+                let rq = pixel_ray(q, w, h);
+                let pq = u.eye.xyz + rq * dq;
+                let off = abs(dot(pq - p, s.n));
+                if dot(nq, s.n) < 0.95 || off > 0.02 * dist {
+                    continue;
+                }
+                acc += textureLoad(sky_e_in, q, 0);
+                acc_s += textureLoad(sky_s_in, q, 0).x;
+                wsum += 1.0;
+            }
+        }
+        let e = acc.rgb / max(wsum, 1.0);
+        open = acc.a / max(wsum, 1.0);
+        let spec_vis = acc_s / max(wsum, 1.0);
         let r = reflect(ray, s.n);
-        var best = -2.0;
-        var spec_vis = 1.0;
-        var open_sum = 0.0;
-        var open_all = 0.0;
-        for (var k = 0u; k < u.counts.x; k++) {
-            let c = cells[k];
-            let proj = vec3<f32>(dot(s.n, c.r.xyz), dot(s.n, c.g.xyz), dot(s.n, c.b.xyz));
-            let vis = cell_visibility(k, p, s.n);
-            e += max(proj, vec3<f32>(0.0)) * vis;
-            let near_r = dot(r, c.dir.xyz);
-            if near_r > best {
-                best = near_r;
-                spec_vis = vis;
-            }
-            if c.dir.y > 0.0 {
-                open_sum += vis * c.r.w;
-                open_all += c.r.w;
-            }
-        }
-        if open_all > 0.0 {
-            open = open_sum / open_all;
-        }
         var sky_t = 1.0;
         if fog_on {
             sky_t = exp(-u.fog.x * depth_in_fog);
