@@ -8,6 +8,7 @@ mod common;
 mod ephemeris_cmd;
 mod events_cmd;
 mod render_cmd;
+mod sequence_cmd;
 mod stars_cmd;
 
 use himmel_cli::timearg;

@@ -9,7 +9,7 @@ use himmel_cpu::CpuRenderer;
 use himmel_skymodel::camera::{CameraSettings, Exposure};
 use himmel_skymodel::file::write_bytes;
 use himmel_skymodel::scene::parse_effects;
-use himmel_skymodel::{Projection, RenderError, Scene, SkyRenderer, SkyState};
+use himmel_skymodel::{Projection, RenderError, RenderOutput, Scene, SkyRenderer, SkyState};
 use serde_json::json;
 
 use crate::common;
@@ -42,7 +42,7 @@ pub struct RenderArgs {
     height: Option<u64>,
     /// fisheye, equirect, perspective or cubemap (default fisheye).
     #[arg(long, value_name = "NAME")]
-    projection: Option<String>,
+    pub(crate) projection: Option<String>,
     /// Perspective camera azimuth, degrees from North through East, in [-720, 720].
     #[arg(long, value_name = "DEG")]
     yaw: Option<f64>,
@@ -60,7 +60,7 @@ pub struct RenderArgs {
     effects: Option<String>,
     /// JSON scene file (see `himmel scene-template`); flags override it.
     #[arg(long, value_name = "FILE")]
-    scene: Option<PathBuf>,
+    pub(crate) scene: Option<PathBuf>,
     /// `auto` or a fixed EV100.
     #[arg(long, value_name = "EV")]
     exposure: Option<String>,
@@ -72,7 +72,7 @@ pub struct RenderArgs {
     sun_scale: Option<f64>,
     /// Write render statistics (passes, times) as JSON to FILE.
     #[arg(long, value_name = "FILE")]
-    stats: Option<PathBuf>,
+    pub(crate) stats: Option<PathBuf>,
     /// Output image: FILE.png (tone-mapped sRGB) or FILE.exr (linear, cd/m²).
     #[arg(long, value_name = "FILE")]
     output: Option<PathBuf>,
@@ -100,6 +100,24 @@ pub struct RenderArgs {
     /// Fog top, metres above the ground.
     #[arg(long, value_name = "M")]
     fog_top: Option<f64>,
+    /// Instant by local apparent solar time: F × 24 h of the scene's local
+    /// date, F in [0, 1) (0.25 = 06:00, 0.5 = the Sun on the meridian).
+    #[arg(long, value_name = "F")]
+    pub(crate) day_fraction: Option<f64>,
+    /// Render a sequence of N frames, written as numbered files
+    /// (`sky.png` → `sky_0000.png`, `sky_0001.png`, …; at least 4 digits).
+    #[arg(long, value_name = "N")]
+    pub(crate) frames: Option<u64>,
+    /// Scene seconds between frames (may be negative; multiplied by the
+    /// scene's time.speed): frame k is at t0 + k × step × speed.
+    #[arg(long, value_name = "SECONDS", allow_hyphen_values = true)]
+    pub(crate) time_step: Option<f64>,
+    /// Camera keyframes for a sequence, JSON: {"keyframes": [{"frame": 0,
+    /// "position_m": [x, y, z], "look_at_m": [x, y, z]}, …]} (or "time_s":
+    /// scene seconds since the first frame instead of "frame"); linear
+    /// between keyframes, held outside them.
+    #[arg(long, value_name = "FILE")]
+    pub(crate) camera_path: Option<PathBuf>,
 }
 
 #[derive(Args, Debug)]
@@ -129,7 +147,7 @@ fn triple(flag: &str, s: &str) -> Result<[f64; 3], CliError> {
 /// A scene error as a one-line input error naming the flag and the field:
 /// `--lat (observer.lat_deg): …` when the flag set the value, else
 /// `--scene FILE: field: …` (or `--scene (field): …` without a file).
-fn scene_error(a: &RenderArgs, e: himmel_skymodel::SceneError) -> CliError {
+pub(crate) fn scene_error(a: &RenderArgs, e: himmel_skymodel::SceneError) -> CliError {
     match (flag_of(a, &e.field), &a.scene) {
         (Some(flag), _) => CliError::input(format!("{flag} ({}): {}", e.field, e.message)),
         (None, Some(p)) => CliError::input(format!("--scene {}: {e}", p.display())),
@@ -184,6 +202,7 @@ fn flag_of(a: &RenderArgs, field: &str) -> Option<&'static str> {
         "fog.scattering_per_m" => ("--fog-scattering", a.fog_scattering.is_some()),
         "fog.phase.hg" => ("--fog-g", a.fog_g.is_some()),
         "fog.top_m" => ("--fog-top", a.fog_top.is_some()),
+        "time.day_fraction" => ("--day-fraction", a.day_fraction.is_some()),
         _ => return None,
     };
     // Without a scene file every value comes from a flag or its default.
@@ -216,6 +235,9 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
     if let Some(t) = &a.time {
         let utc = parse_time(t).map_err(CliError::input)?;
         scene.time.utc = format_utc(&utc);
+    }
+    if let Some(f) = a.day_fraction {
+        scene.time.day_fraction = Some(f);
     }
     if let Some(v) = a.lat {
         scene.observer.lat_deg = common::check_input("--lat", v, -90.0, 90.0)?;
@@ -360,6 +382,7 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let scene = build_scene(a)?;
+    let sequence = crate::sequence_cmd::SequenceArgs::of(a)?;
     let t_world = Clock::now();
     let world = load_world(a, &scene)?;
     let world_load_ms = t_world.elapsed().as_secs_f64() * 1e3;
@@ -370,35 +393,129 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             message: "--backend cpu cannot render a 3D world; use --backend wgpu".into(),
         });
     }
+    let world_stats = world.as_ref().map(|w| {
+        json!({
+            "triangles": w.triangles(),
+            "materials": w.materials.len(),
+            "load_ms": world_load_ms,
+        })
+    });
+    if let Some(seq) = sequence {
+        let run = crate::sequence_cmd::SequenceRun {
+            args: a,
+            seq,
+            output,
+            format,
+            backend,
+            world: world.as_ref(),
+            world_stats,
+            t_total,
+        };
+        return run.run(scene);
+    }
     let state = SkyState::at(&scene).map_err(|e| scene_error(a, e))?;
-    let t_init = Clock::now();
-    let (mut renderer, mut timing) = match &world {
-        Some(w) => make_world_renderer(backend, w)?,
-        None => make_renderer(backend)?,
-    };
-    let init_ms = t_init.elapsed().as_secs_f64() * 1e3;
-    let t_render = Clock::now();
-    let out = match renderer.render(&scene, &state) {
-        Ok(out) => out,
-        // The GPU cannot hold this frame (its buffer or texture limits).
-        Err(RenderError::Unavailable(m)) if backend == "auto" => {
-            eprintln!("note: {m}; falling back to --backend cpu");
-            (renderer, timing) = (cpu_renderer(), "cpu");
-            renderer
-                .render(&scene, &state)
-                .map_err(|e| CliError::other(e.to_string()))?
-        }
-        Err(RenderError::Unavailable(m)) => {
-            return Err(CliError {
+    let mut renderer = FrameRenderer::new(backend, world.as_ref())?;
+    let frame = render_frame(&mut renderer, &scene, &state, output, format)?;
+    if let Some(path) = &a.stats {
+        let mut stats = frame_stats(&renderer, &frame, &state);
+        stats["total_ms"] = json!(t_total.elapsed().as_secs_f64() * 1e3);
+        stats["world"] = world_stats.unwrap_or(serde_json::Value::Null);
+        write_stats(path, &stats)?;
+    }
+    Ok(())
+}
+
+/// The renderer of one `himmel render` run, built once for all its frames
+/// (device, LUTs, pipelines), with how it times passes.
+pub(crate) struct FrameRenderer {
+    renderer: Box<dyn SkyRenderer>,
+    /// `cpu` or `gpu-timestamps`.
+    pub timing: &'static str,
+    /// The `--backend` asked for (`cpu`, `wgpu`, `auto`).
+    backend: String,
+    /// Renderer creation, ms.
+    pub init_ms: f64,
+}
+
+impl FrameRenderer {
+    /// The renderer for `--backend` (and the world, if any).
+    pub(crate) fn new(
+        backend: &str,
+        world: Option<&himmel_world::World>,
+    ) -> Result<FrameRenderer, CliError> {
+        let t_init = Clock::now();
+        let (renderer, timing) = match world {
+            Some(w) => make_world_renderer(backend, w)?,
+            None => make_renderer(backend)?,
+        };
+        Ok(FrameRenderer {
+            renderer,
+            timing,
+            backend: backend.to_string(),
+            init_ms: t_init.elapsed().as_secs_f64() * 1e3,
+        })
+    }
+
+    /// The backend's name as `--stats` reports it.
+    pub(crate) fn name(&self) -> &'static str {
+        self.renderer.name()
+    }
+
+    /// Renders one frame; with `--backend auto`, a frame the GPU cannot
+    /// hold (its buffer or texture limits) falls back to the CPU for good.
+    pub(crate) fn render(
+        &mut self,
+        scene: &Scene,
+        state: &SkyState,
+    ) -> Result<RenderOutput, CliError> {
+        match self.renderer.render(scene, state) {
+            Ok(out) => Ok(out),
+            Err(RenderError::Unavailable(m)) if self.backend == "auto" => {
+                eprintln!("note: {m}; falling back to --backend cpu");
+                (self.renderer, self.timing) = (cpu_renderer(), "cpu");
+                self.renderer
+                    .render(scene, state)
+                    .map_err(|e| CliError::other(e.to_string()))
+            }
+            Err(RenderError::Unavailable(m)) => Err(CliError {
                 code: 3,
-                message: format!("--backend {backend}: {m}; use --backend cpu (or auto) instead"),
-            })
+                message: format!(
+                    "--backend {}: {m}; use --backend cpu (or auto) instead",
+                    self.backend
+                ),
+            }),
+            Err(e) => Err(CliError::other(e.to_string())),
         }
-        Err(e) => return Err(CliError::other(e.to_string())),
-    };
+    }
+}
+
+/// A rendered and written frame.
+pub(crate) struct WrittenFrame {
+    /// The renderer's output (HDR image, passes, lights).
+    pub out: RenderOutput,
+    /// The frame incl. read-back, ms.
+    pub render_ms: f64,
+    /// The file write (camera stage included for a PNG), ms.
+    pub write_ms: f64,
+    /// The EV100 of a PNG's camera stage (none for an EXR).
+    pub ev100: Option<f64>,
+}
+
+/// Renders one frame of `scene` at `state` and writes it to `output`: the
+/// EXR holds the absolute radiance, the PNG the camera stage at
+/// `scene.exposure`. The single-frame and the sequence paths both call it.
+pub(crate) fn render_frame(
+    renderer: &mut FrameRenderer,
+    scene: &Scene,
+    state: &SkyState,
+    output: &std::path::Path,
+    format: ImageFormat,
+) -> Result<WrittenFrame, CliError> {
+    let t_render = Clock::now();
+    let out = renderer.render(scene, state)?;
     let render_ms = t_render.elapsed().as_secs_f64() * 1e3;
     let t_write = Clock::now();
-    let ev = match format {
+    let ev100 = match format {
         ImageFormat::Exr => {
             output::write_exr(output, &out.image).map_err(|e| write_error("--output", e))?;
             None
@@ -415,57 +532,70 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
             )
         }
     };
-    let write_ms = t_write.elapsed().as_secs_f64() * 1e3;
-    if let Some(path) = &a.stats {
-        let sun_direct = direct_stats(out.lights.direct.sun.as_ref());
-        let stats = json!({
-            "backend": renderer.name(),
-            "timing": timing,
-            "width": out.image.width,
-            "height": out.image.height,
-            "passes": out.passes,
-            "total_ms": t_total.elapsed().as_secs_f64() * 1e3,
-            "init_ms": init_ms,
-            "render_ms": render_ms,
-            "precompute_ms": out.precompute_ms,
-            "lut_source": out.lut_source,
-            "geometry_ms": out.geometry_ms,
-            "sky_view_ms": out.sky_view_ms,
-            "write_ms": write_ms,
-            "ev100": ev,
-            "time_utc": format_utc(&state.utc),
-            "sun": {
-                "alt_deg": state.sun.alt_deg,
-                "alt_refracted_deg": state.sun.alt_refracted_deg,
-                "az_deg": state.sun.az_deg,
-                "distance_km": state.sun.distance_km,
-                "semidiameter_deg": state.sun.angular_radius.to_degrees(),
-                "illuminance_lux": state.sun.illuminance_lux,
-                "visible_fraction": state.sun.visible_fraction,
-                "direct_illuminance_lux": sun_direct.0,
-                "direct_rgb": sun_direct.1,
-            },
-            "moon": moon_stats(&state.moon, direct_stats(out.lights.direct.moon.as_ref())),
-            "world": world.as_ref().map(|w| json!({
-                "triangles": w.triangles(),
-                "materials": w.materials.len(),
-                "load_ms": world_load_ms,
-            })),
-            "sky": {
-                "horizontal_illuminance_lux": himmel_skymodel::frame::lights::luminance(out.lights.sky_horizontal_rgb),
-                "horizontal_rgb": out.lights.sky_horizontal_rgb,
-            },
-        });
-        let text =
-            serde_json::to_string_pretty(&stats).map_err(|e| CliError::other(e.to_string()))?;
-        write_bytes(path, (text + "\n").as_bytes())
-            .map_err(|e| write_error("--stats", e.to_string()))?;
-    }
-    Ok(())
+    Ok(WrittenFrame {
+        out,
+        render_ms,
+        write_ms: t_write.elapsed().as_secs_f64() * 1e3,
+        ev100,
+    })
+}
+
+/// The single-frame `--stats` fields of a frame (`total_ms` and `world`
+/// are the caller's).
+pub(crate) fn frame_stats(
+    renderer: &FrameRenderer,
+    frame: &WrittenFrame,
+    state: &SkyState,
+) -> serde_json::Value {
+    let out = &frame.out;
+    let sun_direct = direct_stats(out.lights.direct.sun.as_ref());
+    json!({
+        "backend": renderer.name(),
+        "timing": renderer.timing,
+        "width": out.image.width,
+        "height": out.image.height,
+        "passes": out.passes,
+        "total_ms": serde_json::Value::Null,
+        "init_ms": renderer.init_ms,
+        "render_ms": frame.render_ms,
+        "precompute_ms": out.precompute_ms,
+        "lut_source": out.lut_source,
+        "geometry_ms": out.geometry_ms,
+        "sky_view_ms": out.sky_view_ms,
+        "write_ms": frame.write_ms,
+        "ev100": frame.ev100,
+        "time_utc": format_utc(&state.utc),
+        "sun": {
+            "alt_deg": state.sun.alt_deg,
+            "alt_refracted_deg": state.sun.alt_refracted_deg,
+            "az_deg": state.sun.az_deg,
+            "distance_km": state.sun.distance_km,
+            "semidiameter_deg": state.sun.angular_radius.to_degrees(),
+            "illuminance_lux": state.sun.illuminance_lux,
+            "visible_fraction": state.sun.visible_fraction,
+            "direct_illuminance_lux": sun_direct.0,
+            "direct_rgb": sun_direct.1,
+        },
+        "moon": moon_stats(&state.moon, direct_stats(out.lights.direct.moon.as_ref())),
+        "world": serde_json::Value::Null,
+        "sky": {
+            "horizontal_illuminance_lux": himmel_skymodel::frame::lights::luminance(out.lights.sky_horizontal_rgb),
+            "horizontal_rgb": out.lights.sky_horizontal_rgb,
+        },
+    })
+}
+
+/// Writes `--stats` (pretty JSON).
+pub(crate) fn write_stats(
+    path: &std::path::Path,
+    stats: &serde_json::Value,
+) -> Result<(), CliError> {
+    let text = serde_json::to_string_pretty(stats).map_err(|e| CliError::other(e.to_string()))?;
+    write_bytes(path, (text + "\n").as_bytes()).map_err(|e| write_error("--stats", e.to_string()))
 }
 
 /// A failed file write (exit 1): `FLAG FILE: what failed`.
-fn write_error(flag: &str, e: String) -> CliError {
+pub(crate) fn write_error(flag: &str, e: String) -> CliError {
     CliError::other(format!("{flag} {e}"))
 }
 

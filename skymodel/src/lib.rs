@@ -25,6 +25,10 @@
 //! * [`projection`] — fisheye, equirect, perspective, cube map;
 //! * [`refraction`] — ENU directions raised or lowered by the standard
 //!   refraction;
+//! * [`sequence`] — frame sequences ([`sequence::Sequence`]): time steps,
+//!   `time.speed`, camera paths, per-frame history, the exposure curve of a
+//!   sequence;
+//! * [`solar_time`] — local apparent solar time, `time.day_fraction`;
 //! * [`camera`] — metering, exposure, night vision, tone curve, sRGB, dither;
 //! * [`renderer`], [`error`] — the [`SkyRenderer`] trait, its output and errors;
 //! * `file` — [`file::write_file`]: every file written through a synced
@@ -53,6 +57,8 @@ pub mod refraction;
 pub mod renderer;
 pub mod scene;
 pub mod scene_error;
+pub mod sequence;
+pub mod solar_time;
 pub mod spectrum;
 pub mod stars;
 pub mod state;

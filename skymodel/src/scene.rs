@@ -172,8 +172,15 @@ pub struct TimeSpec {
     pub utc: String,
     /// Time speed for animations: simulated seconds per real second, in
     /// [−1e9, 1e9] (about ±32 years per second; negative runs backwards)
-    /// (default 1).
+    /// (default 1). In a frame sequence it multiplies the time step
+    /// (`crate::sequence`).
     pub speed: f64,
+    /// Fraction of the day F in [0, 1): when given, the instant is local
+    /// apparent solar time F × 24 h (0.25 = 06:00, 0.5 = the Sun on the
+    /// meridian) on the local date of `utc` at the observer's longitude
+    /// (`crate::solar_time`) (default none: `utc` itself).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub day_fraction: Option<f64>,
 }
 
 impl Default for TimeSpec {
@@ -181,6 +188,7 @@ impl Default for TimeSpec {
         TimeSpec {
             utc: "now".into(),
             speed: 1.0,
+            day_fraction: None,
         }
     }
 }
@@ -214,6 +222,10 @@ impl Default for StarParams {
         }
     }
 }
+
+/// Default largest exposure step between consecutive frames of a sequence,
+/// EV (`Scene::exposure_max_step_ev`).
+pub const DEFAULT_EXPOSURE_MAX_STEP_EV: f64 = 0.25;
 
 /// The complete scene. Every number has a documented range that
 /// [`Scene::validate`] checks; [`Scene::from_json`] names the field of any
@@ -250,6 +262,10 @@ pub struct Scene {
     pub stars: StarParams,
     /// Ordered dithering of 8-bit output (default true).
     pub dither: bool,
+    /// Largest change of the automatic exposure between consecutive frames
+    /// of a sequence, EV, in [0.01, 10] (default 0.25;
+    /// `crate::sequence::exposure`).
+    pub exposure_max_step_ev: f64,
     /// A 3D world under the sky (default none: a sky-only render).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub world: Option<WorldSpec>,
@@ -281,6 +297,7 @@ impl Default for Scene {
             night_vision: true,
             stars: StarParams::default(),
             dither: true,
+            exposure_max_step_ev: DEFAULT_EXPOSURE_MAX_STEP_EV,
             world: None,
             fog: None,
             lighting: LightingSpec::default(),
@@ -371,6 +388,12 @@ impl Scene {
             ("time.speed", t.speed, -1e9, 1e9),
             ("sun_scale", self.sun_scale, 0.01, 100.0),
             ("moon_scale", self.moon_scale, 0.01, 100.0),
+            (
+                "exposure_max_step_ev",
+                self.exposure_max_step_ev,
+                0.01,
+                10.0,
+            ),
             ("stars.limit_mag", st.limit_mag, -2.0, 8.0),
             ("stars.core_px", st.core_px, 0.3, 4.0),
             ("stars.glare", st.glare, 0.0, 10.0),
@@ -379,6 +402,17 @@ impl Scene {
         }
         if let Exposure::Ev100(v) = self.exposure {
             check_range("exposure", v, -30.0, 40.0)?;
+        }
+        if let Some(f) = t.day_fraction {
+            if !(f.is_finite() && (0.0..1.0).contains(&f)) {
+                return Err(SceneError::new(
+                    "time.day_fraction",
+                    format!(
+                        "{} is outside [0, 1) (0.25 = apparent solar 06:00)",
+                        show(f)
+                    ),
+                ));
+            }
         }
         if himmel_astro::Precision::from_name(&self.precision).is_none() {
             return Err(SceneError::new(

@@ -52,11 +52,29 @@ pub fn parse_utc(s: &str) -> Result<UtcDateTime, SceneError> {
     }
 }
 
+/// The scene's instant: `time.utc`, or with `time.day_fraction` F the
+/// instant of local apparent solar time F × 24 h on the local date of
+/// `time.utc` ([`crate::solar_time::day_fraction_instant`]).
+pub fn scene_utc(scene: &Scene) -> Result<UtcDateTime, SceneError> {
+    let utc = parse_utc(&scene.time.utc)?;
+    let Some(f) = scene.time.day_fraction else {
+        return Ok(utc);
+    };
+    let o = &scene.observer;
+    let observer = Observer::new(o.lat_deg, o.lon_deg, o.elevation_m).map_err(|e| SceneError {
+        field: "observer".into(),
+        message: e.to_string(),
+    })?;
+    let precision = Precision::from_name(&scene.precision).unwrap_or(Precision::Standard);
+    crate::solar_time::day_fraction_instant(&utc, &observer, precision, f)
+}
+
 impl SkyState {
     /// The sky state of `scene` at its own time (`scene.time.utc`).
+    /// With `time.day_fraction` the instant is that apparent solar time of
+    /// the date ([`scene_utc`]).
     pub fn at(scene: &Scene) -> Result<SkyState, SceneError> {
-        let utc = parse_utc(&scene.time.utc)?;
-        Self::at_utc(scene, utc)
+        Self::at_utc(scene, scene_utc(scene)?)
     }
 
     /// The sky state of `scene` at civil UTC `utc`.
