@@ -120,7 +120,11 @@ fn worlds_against_mitsuba() {
             continue;
         }
         let (name, lit, sky, f) = measure(c);
-        println!("| {name} | {:.2} % | {:.2} % | {f:.3} |", lit * 100.0, sky * 100.0);
+        println!(
+            "| {name} | {:.2} % | {:.2} % | {f:.3} |",
+            lit * 100.0,
+            sky * 100.0
+        );
         if let Some((bl, bs, bf)) = bounds(&name) {
             if !(lit <= bl && sky <= bs && f <= bf) {
                 failures.push(format!("{name}: lit {lit:.4} (≤ {bl}), sky-lit {sky:.4} (≤ {bs}), FLIP {f:.3} (≤ {bf})"));
