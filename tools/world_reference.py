@@ -5,9 +5,17 @@ Run by hand, never in CI. For each case of a case file (tools/world_cases.json)
 it renders, with Mitsuba 3, the world (.glb) lit by
 
 * the sky: an environment light made from Himmel's own equirect EXR of the
-  instant *without* the Sun and Moon disks
-  (`himmel render --projection equirect --effects atmosphere,stars,planets,milkyway
-  --width 1024 --height 512 --output env.exr --stats stats.json …`);
+  instant with every sky pass (`himmel render --projection equirect --effects
+  atmosphere,sun,moon,stars,planets,milkyway --width 1024 --height 512
+  --output env.exr --stats stats.json …`: Himmel's moonlit sky is part of the
+  atmosphere pass only when `moon` is among the effects) from which the Sun
+  and Moon disks are then removed (`remove_disks`): every pixel whose centre
+  lies within (angular radius × 1.5 + 1.5 pixel pitches) of the body's
+  refracted apparent place (stats `alt_refracted_deg`, `az_deg`,
+  `semidiameter_deg`; for an eclipsed Sun, stats `sun.visible_fraction` < 1,
+  6 solar radii — the drawn corona's edge — instead of 1.5) takes, per
+  channel, the solid-angle-weighted mean of the annulus from that radius to
+  twice it. The aureole stays; the disks are the directional lights below;
 * the Sun and the Moon: directional lights whose irradiance is Himmel's
   `--stats` `sun.direct_rgb` / `moon.direct_rgb` (lux at normal incidence after
   the atmosphere, linear sRGB) from the direction `alt_refracted_deg`/`az_deg`;
@@ -40,11 +48,12 @@ Usage (from the repository root):
 
 By default the script calls `himmel` itself (`--himmel PATH`, default
 `$CARGO_TARGET_DIR/release/himmel` or `target/release/himmel`) to make the
-environment (`--effects atmosphere,stars,planets,milkyway`, 1024 × 512
-equirect) and the stats (a 64 × 32 render with `--effects atmosphere,sun,moon`:
-`direct_rgb` is 0 for a body not among the effects) of each case's instant,
-cached per instant in `--work` (default /tmp/himmel-world-ref).
-`--env EXR --stats JSON` use given files instead (only with one `--case`).
+environment and the stats of each case's instant in one render (`--effects
+atmosphere,sun,moon,stars,planets,milkyway`, 1024 × 512 equirect, `--stats`;
+`direct_rgb` is 0 for a body not among the effects), cached per instant in
+`--work` (default /tmp/himmel-world-ref, files `*_env_disks.exr`,
+`*_env_disks_stats.json`). `--env EXR --stats JSON` use given files instead
+(only with one `--case`); the disks are removed from those too.
 
 Integrator (`--integrator`): `direct` (default) is the estimator of
 `direct_pass()` — the same direct-lighting integral as Mitsuba's `path` with
@@ -63,7 +72,7 @@ is ≥ 1 % of the mask's median, divided by 2 is the noise of the written image
 continue until the former is below `--target-noise`, at least `--min-spp`,
 at most `--max-spp`.
 
-Conventions checked by `--selftest` (assertions, in a scene-free Mitsuba run):
+Conventions checked by `--selftest` (assertions, in scene-free Mitsuba runs):
 * Himmel's equirect (column = azimuth/360°·W, azimuth from North through East,
   row = (90° − altitude)/180°·H, North = −z, East = +x, Up = +y) is Mitsuba's
   `envmap` latitude–longitude layout with the *identity* `to_world`: Mitsuba
@@ -76,6 +85,14 @@ Conventions checked by `--selftest` (assertions, in a scene-free Mitsuba run):
 * a directional light of irradiance E from altitude h on a horizontal
   Lambertian plane of albedo ρ gives ρ E sin h / π, and a pole's shadow falls
   away from the light's azimuth.
+* `remove_disks` replaces a synthetic bright disk by the surrounding sky, and
+  the horizontal-illuminance quadrature gives π for L = 1;
+* with `himmel` (`--himmel PATH`; skipped with a note without it): for the
+  first day ("high") and the first night case of `--cases`, the environment's
+  horizontal illuminance ∫ L sin(alt) dΩ over the upper hemisphere, computed
+  from the equirect EXR with the disks removed, equals `--stats`
+  `sky.horizontal_illuminance_lux` of the same render (Himmel's own sky-dome
+  illuminance without the disks) within 1 %.
 
 Mitsuba 3 is BSD-3-Clause (Wenzel Jakob et al.); the worlds are Himmel's own.
 """
@@ -601,29 +618,106 @@ def default_himmel():
     return os.path.join(target, "release", "himmel")
 
 
-def himmel_env(himmel, case, work):
-    """(env.exr path, stats path) of the case's instant, cached in `work`."""
+def himmel_env(himmel, case, work, effects=None, tag="disks"):
+    """(env.exr path, stats path) of the case's instant, cached in `work`
+    (`effects`: default ENV_EFFECTS; `tag` names the cache files)."""
+    effects = effects or ENV_EFFECTS
     key = f"{case['time']}_{case['lat']}_{case['lon']}_{case.get('elevation_m', 0)}"
     key = "".join(c if c.isalnum() or c in "-_." else "_" for c in key)
-    env, stats = os.path.join(work, key + "_env.exr"), os.path.join(work, key + "_stats.json")
+    # "_disks": made with the Sun and Moon effects (older caches had neither).
+    env = os.path.join(work, key + f"_env_{tag}.exr")
+    stats = os.path.join(work, key + f"_env_{tag}_stats.json")
     if not (os.path.exists(env) and os.path.exists(stats)):
         os.makedirs(work, exist_ok=True)
         where = ["--time", case["time"], f"--lat={case['lat']}", f"--lon={case['lon']}",
                  f"--elevation={case.get('elevation_m', 0)}", "--projection", "equirect"]
-        # The environment: the sky without the Sun and Moon disks. No fixed
-        # --exposure: passes invisible at the exposure are skipped (stars and
-        # the Milky Way at EV100 0 by night); the EXR is absolute either way.
-        cmds = [[himmel, "render", *where, "--effects", "atmosphere,stars,planets,milkyway",
-                 "--width", "1024", "--height", "512", "--output", env],
-                # The stats: sun/moon direct_rgb are 0 unless `sun`/`moon` are among
-                # the effects, so a second, tiny render lists them.
-                [himmel, "render", *where, "--effects", "atmosphere,sun,moon",
-                 "--width", "64", "--height", "32", "--output", env + ".stats.exr",
-                 "--stats", stats]]
+        # The environment: every sky pass, the Sun and the Moon included —
+        # Himmel's moonlit sky belongs to the atmosphere pass only when the
+        # Moon is among the effects — with --stats of the same render (its
+        # sun/moon direct_rgb are 0 unless `sun`/`moon` are among the
+        # effects; `sky.horizontal_illuminance_lux` is this sky's own dome
+        # illuminance without the disks). The disks are removed afterwards
+        # (`remove_disks`). No fixed --exposure: passes invisible at the
+        # exposure are skipped; the EXR is absolute either way.
+        cmds = [[himmel, "render", *where, "--effects", effects,
+                 "--width", "1024", "--height", "512", "--output", env, "--stats", stats]]
         for cmd in cmds:
             print("+", " ".join(cmd), file=sys.stderr)
             subprocess.run(cmd, check=True)
     return env, stats
+
+
+ENV_EFFECTS = "atmosphere,sun,moon,stars,planets,milkyway"
+
+
+def equirect_dirs(h, w):
+    """Per pixel of a Himmel equirect (h, w): unit direction of its centre
+    (world frame) and its solid angle (sr)."""
+    az = np.radians(360.0 * (np.arange(w) + 0.5) / w)
+    alt_edges = np.radians(90.0 - 180.0 * np.arange(h + 1) / h)
+    alt = 0.5 * (alt_edges[:-1] + alt_edges[1:])
+    ca, sa = np.cos(alt)[:, None], np.sin(alt)[:, None]
+    d = np.stack([ca * np.sin(az)[None, :], np.broadcast_to(sa, (h, w)),
+                  -ca * np.cos(az)[None, :]], axis=2)
+    domega = (2.0 * math.pi / w) * (np.sin(alt_edges[:-1]) - np.sin(alt_edges[1:]))
+    return d, np.broadcast_to(domega[:, None], (h, w)), alt_edges
+
+
+def disk_regions(stats, h, w):
+    """[(name, centre direction, radius rad)]: what `remove_disks` replaces —
+    each body's refracted apparent place and angular radius × 1.5 + 1.5 pixel
+    pitches; for the Sun during a solar eclipse (stats `sun.visible_fraction`
+    < 1) the drawn inner corona's outer edge, 6 solar radii, instead of 1.5."""
+    pitch = math.radians(max(360.0 / w, 180.0 / h))
+    out = []
+    for name in ("sun", "moon"):
+        s = stats.get(name) or {}
+        if "az_deg" not in s or "semidiameter_deg" not in s:
+            continue
+        alt = s.get("alt_refracted_deg", s.get("alt_deg"))
+        k = 1.5
+        if name == "sun" and float(s.get("visible_fraction", 1.0)) < 1.0:
+            k = 6.0
+        radius = math.radians(float(s["semidiameter_deg"])) * k + 1.5 * pitch
+        out.append((name, unit_towards(alt, s["az_deg"]), radius))
+    return out
+
+
+def remove_disks(env, stats):
+    """Himmel's equirect `env` (h, w, 3) without the Sun and Moon disks (and
+    an eclipse's corona): each pixel whose centre lies within a region of
+    `disk_regions` takes, per channel, the solid-angle-weighted mean of the
+    annulus from that radius to twice it (the sky around the disk: the
+    aureole stays, only the disk goes). Returns (new env, report)."""
+    h, w = env.shape[:2]
+    d, domega, _ = equirect_dirs(h, w)
+    env = np.array(env, dtype=np.float64, copy=True)
+    report = {}
+    for name, c, r in disk_regions(stats, h, w):
+        ang = np.arccos(np.clip(d @ c, -1.0, 1.0))
+        inner = ang < r
+        ring = (ang >= r) & (ang < 2.0 * r)
+        if not inner.any():
+            continue
+        wr = domega[ring]
+        mean = (env[ring] * wr[:, None]).sum(axis=0) / wr.sum()
+        before = (env[inner] * domega[inner][:, None]).sum(axis=0)
+        env[inner] = mean
+        report[name] = {"radius_deg": math.degrees(r), "pixels": int(inner.sum()),
+                        "ring_pixels": int(ring.sum()), "ring_mean_rgb": mean.tolist(),
+                        "removed_intensity_rgb": (before - mean * domega[inner].sum()).tolist()}
+    return env, report
+
+
+def horizontal_illuminance(env):
+    """∫ L sin(alt) dΩ over the upper hemisphere of a Himmel equirect (h, w, 3):
+    (lux, linear sRGB triple). Each row's ∫ sin·cos d(alt) is exact."""
+    h, w = env.shape[:2]
+    _, _, edges = equirect_dirs(h, w)
+    wrow = 0.5 * (np.sin(edges[:-1]) ** 2 - np.sin(edges[1:]) ** 2) * (2.0 * math.pi / w)
+    up = edges[1:] >= 0.0  # rows wholly above the horizon (h even: exactly the upper half)
+    rgb = (env[up] * wrow[up][:, None, None]).sum(axis=(0, 1))
+    return float(rgb @ Y_WEIGHTS), rgb.tolist()
 
 
 def lights_of(stats):
@@ -672,7 +766,10 @@ def run_case(case, args, env_path, stats_path):
     t0 = time.time()
     stats = json.load(open(stats_path))
     lights = lights_of(stats)
-    env = read_exr_rgb(env_path)
+    env, removed = remove_disks(read_exr_rgb(env_path), stats)
+    for name, r in removed.items():
+        print(f"  {case['name']}: {name} disk removed from the environment: {r['pixels']} "
+              f"pixels within {r['radius_deg']:.3f} deg", file=sys.stderr)
     world = load_world(os.path.join(ROOT, case["world"]))
     scene = build_scene(case, world, env, lights, max_depth=case.get("max_depth", 2))
     # The mask's light: the brightest directional light (the Sun by day, the Moon at night).
@@ -740,6 +837,10 @@ def run_case(case, args, env_path, stats_path):
         "lights": lights,
         "sky_horizontal_illuminance_lux": (stats.get("sky") or {}).get(
             "horizontal_illuminance_lux"),
+        "env_effects": ENV_EFFECTS if env_path.endswith("_env_disks.exr") else None,
+        "env_horizontal_illuminance_lux": horizontal_illuminance(env)[0],
+        "env_disks_removed": {k: {"radius_deg": round(v["radius_deg"], 4), "pixels": v["pixels"]}
+                              for k, v in removed.items()},
         "render_s": round(time.time() - t0, 1),
         "validation_vs_path": validation,
         "himmel_time_utc": stats.get("time_utc"),
@@ -790,6 +891,75 @@ def write_preview(path, img, m):
 
 # --------------------------------------------------------------------------
 # Self-test of the conventions (no Himmel needed).
+
+def selftest_env(args):
+    """The environment against Himmel's own figure: for the first day ("high")
+    and night case of the case file, ∫ L sin(alt) dΩ over the upper hemisphere
+    of the equirect, disks removed, must be `--stats`
+    `sky.horizontal_illuminance_lux` of the same render (the sky dome without
+    the disks, Sun-lit and Moon-lit) within 1 %. That figure leaves out the
+    night passes (stars, planets, Milky Way, diffuse night-sky light: +1.7 %
+    of it on the moonlit night of tools/world_cases.json), so the assertion
+    is on the environment rendered with `atmosphere,sun,moon` alone (disks
+    removed likewise); the full environment's figure and the night passes'
+    share are printed beside it. Needs `himmel`."""
+    # remove_disks on a synthetic map: a constant sky with a bright disk.
+    h, w = 512, 1024
+    stats = {"sun": {"alt_refracted_deg": 30.0, "az_deg": 120.0, "semidiameter_deg": 0.27},
+             "moon": {"alt_refracted_deg": 60.0, "az_deg": 300.0, "semidiameter_deg": 0.25}}
+    env = np.full((h, w, 3), [1.0, 2.0, 3.0])
+    d, _, _ = equirect_dirs(h, w)
+    for name in ("sun", "moon"):
+        c = unit_towards(stats[name]["alt_refracted_deg"], stats[name]["az_deg"])
+        env[np.arccos(np.clip(d @ c, -1, 1)) < math.radians(0.3)] = 1.0e6
+    clean, rep = remove_disks(env, stats)
+    assert np.allclose(clean, [1.0, 2.0, 3.0]), "remove_disks left disk pixels"
+    assert all(r["pixels"] > 0 for r in rep.values()) and len(rep) == 2
+    e, _ = horizontal_illuminance(np.ones((h, w, 3)))
+    assert abs(e / math.pi - 1.0) < 1e-9, f"∫ sin dΩ of L = 1 gives {e}, not π"
+    print("selftest: remove_disks and the horizontal-illuminance quadrature OK", file=sys.stderr)
+    if not os.path.exists(args.himmel):
+        print(f"selftest: SKIPPED the environment vs --stats check ({args.himmel} "
+              "not found; --himmel PATH)", file=sys.stderr)
+        return
+    cases = json.load(open(args.cases))["cases"]
+    picked = [next(c for c in cases if c.get("condition") == k) for k in ("high", "night")]
+    failed = []
+    for case in picked:
+        env_path, stats_path = himmel_env(args.himmel, case, args.work)
+        stats = json.load(open(stats_path))
+        raw = read_exr_rgb(env_path)
+        clean, rep = remove_disks(raw, stats)
+        e_raw, _ = horizontal_illuminance(raw)
+        e_env, _ = horizontal_illuminance(clean)
+        # The same without the night passes (stars, planets, Milky Way and the
+        # diffuse night-sky light): `sky.horizontal_illuminance_lux` is the
+        # atmosphere's sky-view radiance alone (skymodel frame::lights::
+        # sky_horizontal_rgb), so this is the like-for-like figure.
+        atm_path, _ = himmel_env(args.himmel, case, args.work, "atmosphere,sun,moon", "atm")
+        e_atm, _ = horizontal_illuminance(remove_disks(read_exr_rgb(atm_path), stats)[0])
+        e_him = float(stats["sky"]["horizontal_illuminance_lux"])
+        rel, rel_atm = e_env / e_him - 1.0, e_atm / e_him - 1.0
+        regions = ", ".join(f"{k} {v['pixels']} px within {v['radius_deg']:.3f} deg"
+                            for k, v in rep.items()) or "none above the horizon"
+        print(f"selftest: {case['condition']} {case['time']}: stats "
+              f"sky.horizontal_illuminance_lux {e_him:.6g}; environment "
+              f"({ENV_EFFECTS}, disks removed) E_h {e_env:.6g} lux ({100 * rel:+.3f} %; "
+              f"with the disks {e_raw:.6g}); without the night passes "
+              f"(atmosphere,sun,moon) {e_atm:.6g} lux ({100 * rel_atm:+.3f} %); the night "
+              f"passes add {e_env - e_atm:.4g} lux ({100 * (e_env - e_atm) / e_him:.3f} % of "
+              f"the stats figure); removed: {regions}", file=sys.stderr)
+        if not abs(rel_atm) < 0.01:
+            failed.append(f"{case['condition']}: {100 * rel_atm:+.3f} %")
+        if not abs(rel) < 0.01:
+            print(f"selftest: NOTE {case['condition']}: the full environment differs from "
+                  f"the stats figure by {100 * rel:+.3f} % — the night passes, which "
+                  "Himmel's sky.horizontal_illuminance_lux leaves out", file=sys.stderr)
+    assert not failed, "environment (atmosphere, Sun and Moon passes, disks removed) " \
+        "horizontal illuminance off --stats by more than 1 %: " + "; ".join(failed)
+    print("selftest: environment horizontal illuminance within 1 % of --stats OK",
+          file=sys.stderr)
+
 
 def selftest():
     w, h = 64, 32
@@ -899,6 +1069,7 @@ def main():
     print(f"Mitsuba {mi.__version__}, variant {variant}", file=sys.stderr)
     if args.selftest:
         selftest()
+        selftest_env(args)
         return
     cases = json.load(open(args.cases))["cases"]
     if args.case:
