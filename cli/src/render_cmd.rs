@@ -19,7 +19,7 @@ use crate::CliError;
 
 #[derive(Args, Debug)]
 pub struct RenderArgs {
-    /// Instant, RFC 3339 civil UTC or `now` (required unless the scene has one).
+    /// Instant: RFC 3339 civil UTC, a date, or `now` (dates before 1582-10-15 are Julian, as printed; signed and 5-digit years) (required unless the scene has one).
     #[arg(long, value_name = "TIME")]
     time: Option<String>,
     /// Geodetic latitude, degrees in [-90, 90].

@@ -56,7 +56,11 @@ fn case_scene(c: &Value) -> Scene {
         Effect::World,
         Effect::Shadows,
     ];
-    s.atmosphere.ground_albedo = c["ground_albedo"].as_f64().unwrap_or(0.3) as _;
+    // The references' sky is Himmel's default atmosphere (ground albedo 0.2).
+    assert_eq!(
+        c["ground_albedo"].as_f64(),
+        Some(s.atmosphere.ground_albedo)
+    );
     s.world = Some(WorldSpec {
         gltf: c["world"].as_str().unwrap().into(),
         ground: c["ground"].as_bool().unwrap_or(false),
@@ -99,16 +103,20 @@ fn worlds_against_mitsuba() {
         &std::fs::read_to_string(root().join("tools/world_cases.json")).unwrap(),
     )
     .unwrap();
-    // What this version achieves per case, with a margin (lit, sky-lit,
-    // FLIP); night cases wait for references with the moonlit sky.
-    let bounds = |name: &str| -> Option<(f64, f64, f64)> {
+    // What this version achieves per case on lavapipe with a margin of
+    // about a quarter (lit, sky-lit, FLIP).
+    let bounds = |name: &str| -> (f64, f64, f64) {
         match name {
-            "sun_room_high" => Some((0.02, 0.22, 0.15)),
-            "sun_room_low" => Some((0.06, 0.40, 0.15)),
-            "atrium_high" => Some((0.02, 0.15, 0.15)),
-            "atrium_low" => Some((0.06, 0.15, 0.15)),
-            "plane_and_boxes_high" | "plane_and_boxes_low" => Some((0.03, 0.15, 0.15)),
-            _ => None,
+            "sun_room_high" => (0.01, 0.21, 0.18),
+            "sun_room_low" => (0.05, 0.38, 0.28),
+            "sun_room_night" => (0.01, 0.20, 0.17),
+            "atrium_high" => (0.005, 0.13, 0.05),
+            "atrium_low" => (0.05, 0.13, 0.13),
+            "atrium_night" => (0.005, 0.14, 0.04),
+            "plane_and_boxes_high" => (0.005, 0.12, 0.02),
+            "plane_and_boxes_low" => (0.012, 0.17, 0.035),
+            "plane_and_boxes_night" => (0.005, 0.10, 0.015),
+            other => panic!("no bounds for case {other}"),
         }
     };
     println!("| case | lit pixels | sky-lit pixels | FLIP |");
@@ -125,10 +133,11 @@ fn worlds_against_mitsuba() {
             lit * 100.0,
             sky * 100.0
         );
-        if let Some((bl, bs, bf)) = bounds(&name) {
-            if !(lit <= bl && sky <= bs && f <= bf) {
-                failures.push(format!("{name}: lit {lit:.4} (≤ {bl}), sky-lit {sky:.4} (≤ {bs}), FLIP {f:.3} (≤ {bf})"));
-            }
+        let (bl, bs, bf) = bounds(&name);
+        if !(lit <= bl && sky <= bs && f <= bf) {
+            failures.push(format!(
+                "{name}: lit {lit:.4} (≤ {bl}), sky-lit {sky:.4} (≤ {bs}), FLIP {f:.3} (≤ {bf})"
+            ));
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
