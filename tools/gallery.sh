@@ -30,3 +30,16 @@ common=(--lat 48.14 --lon 11.58 --width 320 --height 320 --projection fisheye)
 "$himmel" render --time 2024-01-15T21:00:00Z --lat 48.14 --lon 11.58 --width 480 --height 480 \
   --effects stars,planets,milkyway,atmosphere --exposure -6 --output "$out/night.png"
 ls -l "$out"
+
+# 3D worlds (wgpu; lavapipe without a GPU): the sun room at noon and in a
+# low winter Sun, the atrium in the afternoon, plane + boxes under a full Moon.
+w=tests/fixtures/worlds
+world=(--backend wgpu --projection perspective --fov 60 --width 480 --height 270)
+"$himmel" render "${world[@]}" --world $w/sun_room.glb --time 2024-04-15T11:45:00Z --lat 48.14 --lon 11.58 \
+  --camera-pos=-2.2,1.6,-2 --look-at=0.2,0,1.3 --exposure 12 --output "$out/world-sun-room-noon.png"
+"$himmel" render "${world[@]}" --world $w/sun_room.glb --time 2024-12-21T11:45:00Z --lat 56.5 --lon 10 \
+  --camera-pos=2.4,1.6,2.1 --look-at=-0.6,0.6,-2.5 --output "$out/world-sun-room-winter.png"
+"$himmel" render "${world[@]}" --world $w/atrium.glb --time 2024-06-21T15:00:00Z --lat 48.14 --lon 11.58 \
+  --camera-pos=8,1.7,8 --look-at=-5,3,-5 --exposure 14 --output "$out/world-atrium.png"
+"$himmel" render "${world[@]}" --world $w/plane_and_boxes.glb --time 2024-10-17T23:30:00Z --lat 48.14 --lon 11.58 \
+  --camera-pos=8,3,8 --look-at=0,0.5,-2 --output "$out/world-moonlit.png"
