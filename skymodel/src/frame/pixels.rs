@@ -34,6 +34,9 @@ pub struct PixelDirections<'a> {
     h: usize,
     /// Equirect: (sin az, cos az) of each column.
     columns: Vec<(f32, f32)>,
+    /// Perspective: the camera's basis (forward, right, up) and
+    /// tan(fov / 2), computed once instead of per pixel.
+    basis: Option<(glam::DVec3, glam::DVec3, glam::DVec3, f64)>,
 }
 
 impl<'a> PixelDirections<'a> {
@@ -46,7 +49,17 @@ impl<'a> PixelDirections<'a> {
         } else {
             Vec::new()
         };
-        PixelDirections { cam, w, h, columns }
+        let basis = (cam.projection == Projection::Perspective).then(|| {
+            let (f, r, u) = cam.basis();
+            (f, r, u, (cam.fov_deg.to_radians() / 2.0).tan())
+        });
+        PixelDirections {
+            cam,
+            w,
+            h,
+            columns,
+            basis,
+        }
     }
 
     /// The image width and height, pixels.
@@ -67,6 +80,14 @@ impl<'a> PixelDirections<'a> {
                 let (s, c) = self.columns[x];
                 Some(Vec3::new(ca * s, ca * c, sa))
             }
+            // The arithmetic of `Camera::pixel_to_dir` with the basis
+            // computed once: the same directions, bit for bit.
+            Projection::Perspective => self.basis.map(|(f, r, u, t)| {
+                let (w, h) = (self.w as f64, self.h as f64);
+                let nx = (x as f64 + 0.5 - w / 2.0) / (h / 2.0) * t;
+                let ny = -(y as f64 + 0.5 - h / 2.0) / (h / 2.0) * t;
+                (f + r * nx + u * ny).normalize().as_vec3()
+            }),
             _ => self
                 .cam
                 .pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5)
@@ -166,6 +187,8 @@ mod tests {
                 projection: p,
                 width: 37,
                 height: 23,
+                yaw_deg: 33.0,
+                pitch_deg: 12.0,
                 ..Camera::default()
             };
             let pd = PixelDirections::new(&cam);
@@ -180,7 +203,11 @@ mod tests {
                     let exact = cam.pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5);
                     match (pd.dir(x, y), exact) {
                         (Some(a), Some(b)) => {
-                            assert!((a.as_dvec3() - b).length() < 2e-6, "{p:?} {x} {y}")
+                            assert!((a.as_dvec3() - b).length() < 2e-6, "{p:?} {x} {y}");
+                            if p == Projection::Perspective {
+                                // The per-frame basis changes no bit.
+                                assert_eq!(a, b.as_vec3(), "{x} {y}");
+                            }
                         }
                         (a, b) => assert_eq!(a.is_some(), b.is_some(), "{p:?} {x} {y}"),
                     }
