@@ -69,3 +69,17 @@ impl fmt::Display for AstroError {
 
 #[cfg(feature = "std")]
 impl std::error::Error for AstroError {}
+
+/// `s` with control characters escaped (`\n`, `\u{1b}`), for text taken
+/// from an input and echoed in a one-line error (every crate's errors and
+/// the command line use this one).
+#[cfg(feature = "std")]
+pub fn printable(s: &str) -> std::string::String {
+    s.chars()
+        .flat_map(|c| {
+            let escaped = c.is_control().then(|| c.escape_default());
+            let plain = (!c.is_control()).then_some(c);
+            escaped.into_iter().flatten().chain(plain)
+        })
+        .collect()
+}

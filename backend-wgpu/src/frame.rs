@@ -1,7 +1,7 @@
 //! Frame resources: the target texture a frame leaves on the GPU, the
 //! bands of rows the accumulation buffer holds at a time, the read-back
-//! into an [`HdrImage`], and the slots the 3D lighting passes will fill
-//! (depth, normals, velocity, history; empty for a sky-only frame).
+//! into an [`HdrImage`] (the 3D lighting passes keep their G-buffer in
+//! `passes::lighting`).
 
 use glam::DVec3;
 use himmel_skymodel::renderer::{HdrImage, PassStat};
@@ -45,23 +45,6 @@ pub struct GpuFrame {
     /// The Sun and Moon as directional lights and the sky's horizontal
     /// illuminance of this frame.
     pub lights: himmel_skymodel::frame::ObserverLights,
-}
-
-/// The per-pixel buffers the 3D lighting passes read and write, kept by
-/// the renderer across frames (the history must outlive a frame): the
-/// G-buffer (depth, normals), motion vectors and the previous frame's lit
-/// colour. A sky-only frame leaves them empty; a pass that needs one
-/// creates it at the frame's size on first use.
-#[derive(Debug, Default)]
-pub struct GBufferSlots {
-    /// Depth of the nearest surface per pixel.
-    pub depth: Option<wgpu::Texture>,
-    /// World-space normals.
-    pub normals: Option<wgpu::Texture>,
-    /// Screen-space motion since the previous frame.
-    pub velocity: Option<wgpu::Texture>,
-    /// The previous frame's lit colour (temporal passes).
-    pub history: Option<wgpu::Texture>,
 }
 
 /// The image of a frame and how it is cut into bands of rows.

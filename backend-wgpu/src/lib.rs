@@ -50,7 +50,7 @@ use himmel_skymodel::frame::{CpuSkyViews, LutOrigin, LutStore, SkyViewSource};
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
 use himmel_skymodel::{Camera, Effect, FramePlan, Projection, Scene, SkyState, Unavailable};
 
-pub use frame::{GBufferSlots, GpuFrame, TARGET_FORMAT};
+pub use frame::{GpuFrame, TARGET_FORMAT};
 pub use gpu::{Timing, WgpuError};
 pub use passes::luts::{self as luts, LutSource};
 pub use passes::moon::moon_uniforms;
@@ -92,8 +92,6 @@ pub struct WgpuRenderer {
     max_band_bytes: Option<u64>,
     /// The per-frame buffers, kept across frames.
     pool: BufferPool,
-    /// The lighting passes' per-pixel buffers, kept across frames.
-    gbuffer: GBufferSlots,
     /// The lighting passes of 3D worlds and their world.
     lighting: passes::lighting::LightingPasses,
     /// The sky's environment light of the last world frame.
@@ -143,7 +141,6 @@ impl WgpuRenderer {
             sky_view_on_gpu: true,
             max_band_bytes: None,
             pool: BufferPool::default(),
-            gbuffer: GBufferSlots::default(),
             lighting: Default::default(),
             env: None,
         })
@@ -576,11 +573,6 @@ impl WgpuRenderer {
     /// scene, so a real-time loop allocates only each frame's target texture.
     pub fn pooled_buffers(&self) -> usize {
         self.pool.len()
-    }
-
-    /// The lighting passes' per-pixel buffers (empty for sky-only frames).
-    pub fn gbuffer(&self) -> &GBufferSlots {
-        &self.gbuffer
     }
 
     /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H

@@ -1,6 +1,8 @@
 //! Typed errors of the catalogue crate: every parser names the line (or the
 //! byte offset of a binary table) and the field that is wrong.
 
+use himmel_astro::error::printable;
+
 use std::fmt;
 
 /// What went wrong while reading catalogue data.
@@ -121,15 +123,3 @@ impl fmt::Display for CatalogError {
 }
 
 impl std::error::Error for CatalogError {}
-
-/// `s` with control characters escaped (`\n`, `\u{1b}`): the text of a
-/// source file echoed in a one-line error.
-fn printable(s: &str) -> String {
-    s.chars()
-        .flat_map(|c| {
-            let escaped = c.is_control().then(|| c.escape_default());
-            let plain = (!c.is_control()).then_some(c);
-            escaped.into_iter().flatten().chain(plain)
-        })
-        .collect()
-}

@@ -2,6 +2,8 @@
 //! --batch` lines (spec/cli.md): CSV `time,lat,lon,elevation_m`, one
 //! observation per line; errors name the flag or the line and column.
 
+pub use himmel_astro::error::printable;
+
 use himmel_astro::{Observer, UtcDateTime};
 
 use crate::timearg::parse_date_or_time;
@@ -26,18 +28,6 @@ pub fn observer(lat: f64, lon: f64, elevation: f64) -> Result<Observer, String> 
     let lon = check("--lon", lon, -360.0, 360.0)?;
     let elevation = check("--elevation", elevation, -12_000.0, 100_000.0)?;
     Observer::new(lat, lon, elevation).map_err(|e| e.to_string())
-}
-
-/// `s` with control characters escaped (`\n`, `\u{1b}`), for echoing an
-/// input in a one-line error.
-pub fn printable(s: &str) -> String {
-    s.chars()
-        .flat_map(|c| {
-            let escaped = c.is_control().then(|| c.escape_default());
-            let plain = (!c.is_control()).then_some(c);
-            escaped.into_iter().flatten().chain(plain)
-        })
-        .collect()
 }
 
 /// The header line that a batch file may start with.

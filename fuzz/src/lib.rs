@@ -94,7 +94,7 @@ impl Target {
             .map(String::from)
             .to_vec(),
             Target::Scene => vec![
-                serde_json::to_string_pretty(&Scene::default()).unwrap(),
+                Scene::template_json(),
                 r#"{"observer": {"lat_deg": 52.5, "lon_deg": 13.4}, "time": {"utc": "-0500-03-01T12:00:00Z"}}"#.into(),
                 r#"{"camera": {"projection": "perspective", "width": 64, "height": 32, "yaw_deg": 90, "pitch_deg": 10, "fov_deg": 40}, "effects": ["sun", "moon"], "exposure": 12.5}"#.into(),
                 r#"{"lut": {"multiscatter_n": 8, "sky_view_w": 32, "sky_view_h": 32, "orders": 2, "forward_peak_deg": 10}, "stars": {"limit_mag": 8, "scintillation": true, "seed": 7}}"#.into(),

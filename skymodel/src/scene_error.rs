@@ -1,6 +1,8 @@
 //! The error of an invalid scene, naming the field (its own module so
 //! that the scene's parts can report it without importing the scene).
 
+use himmel_astro::error::printable;
+
 /// An invalid scene, naming the field.
 #[derive(Debug, Clone, PartialEq)]
 pub struct SceneError {
@@ -28,16 +30,4 @@ impl SceneError {
             message: printable(&message.into()),
         }
     }
-}
-
-/// `s` with control characters escaped (`\n`, `\u{1b}`): text taken from
-/// an input and shown in a one-line error.
-pub fn printable(s: &str) -> String {
-    s.chars()
-        .flat_map(|c| {
-            let escaped = c.is_control().then(|| c.escape_default());
-            let plain = (!c.is_control()).then_some(c);
-            escaped.into_iter().flatten().chain(plain)
-        })
-        .collect()
 }

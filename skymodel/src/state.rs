@@ -9,9 +9,9 @@ use crate::moon::MoonState;
 pub use crate::plan::PlannedPass;
 use crate::projection::enu_from_alt_az;
 use crate::scene::{Effect, Scene, SceneError};
-use crate::scene_error::printable;
 use crate::spectrum::BandWeights;
 pub use crate::sun::SunState;
+use himmel_astro::error::printable;
 
 /// Everything a renderer needs for one instant.
 #[derive(Debug, Clone, PartialEq)]

@@ -41,8 +41,6 @@ pub struct SkyCell {
     pub dir: Vec3,
     /// ∫ L ω dω over the cell per channel (rows R, G, B), cd/m² · sr.
     pub moment: [Vec3; 3],
-    /// ∫ L dω over the cell, per channel (cd/m² · sr).
-    pub power: [f32; 3],
     /// The cell's solid angle, sr.
     pub solid_angle: f32,
 }
@@ -127,7 +125,6 @@ impl EnvLight {
             .map(|&dir| SkyCell {
                 dir,
                 moment: [Vec3::ZERO; 3],
-                power: [0.0; 3],
                 solid_angle: 0.0,
             })
             .collect();
@@ -148,7 +145,6 @@ impl EnvLight {
                     let c = &mut cells[k];
                     for ch in 0..3 {
                         c.moment[ch] += w * (l[ch] * sa);
-                        c.power[ch] += l[ch] * sa;
                     }
                     c.solid_angle += sa;
                 }

@@ -220,27 +220,7 @@ fn render_layers(
     });
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     for k in 0..views.len() {
-        let layer = tex.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2),
-            base_array_layer: k as u32,
-            array_layer_count: Some(1),
-            ..Default::default()
-        });
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("light depth"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &layer,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        let mut pass = layer_pass(&mut enc, tex, k as u32);
         pass.set_pipeline(&pipes.depth);
         pass.set_bind_group(0, &group, &[(k as u64 * MATRIX_STRIDE) as u32]);
         pass.set_vertex_buffer(0, world.vertices.slice(..));
@@ -372,31 +352,41 @@ impl LightMaps {
     }
 }
 
+/// A depth-only render pass into layer `k` of a depth array, cleared to 1
+/// (nothing occludes until the world is drawn).
+fn layer_pass<'e>(
+    enc: &'e mut wgpu::CommandEncoder,
+    tex: &wgpu::Texture,
+    k: u32,
+) -> wgpu::RenderPass<'e> {
+    let layer = tex.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2),
+        base_array_layer: k,
+        array_layer_count: Some(1),
+        ..Default::default()
+    });
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("light depth"),
+        color_attachments: &[],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &layer,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
 /// Clears every layer of a depth array to 1.
 fn clear_depth(gpu: &Gpu, tex: &wgpu::Texture) -> Result<(), RenderError> {
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     for k in 0..tex.depth_or_array_layers() {
-        let layer = tex.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2),
-            base_array_layer: k,
-            array_layer_count: Some(1),
-            ..Default::default()
-        });
-        enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("clear light map"),
-            color_attachments: &[],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &layer,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Store,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
+        layer_pass(&mut enc, tex, k);
     }
     gpu.queue.submit([enc.finish()]);
     gpu.wait()

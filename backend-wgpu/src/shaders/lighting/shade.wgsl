@@ -256,6 +256,25 @@ fn direct(s: Surface, l: vec3<f32>) -> vec3<f32> {
     return ((1.0 - f) * diffuse + d * vis * f) * nl;
 }
 
+// A directional light (towards ld; rgb: illuminance, w: tan of its
+// angular radius) through the fog to the surface, with its shadow from
+// the cascades first..first+count (none when count is 0).
+fn directional(s: Surface, p: vec3<f32>, ld: vec3<f32>, rgb: vec4<f32>, first: u32, count: u32, view_depth: f32, depth_in_fog: f32, px: vec2<u32>) -> vec3<f32> {
+    var e = rgb.rgb;
+    if u.fog.z > 0.5 {
+        e = e * select(0.0, exp(-u.fog.x * depth_in_fog / max(ld.y, 1e-4)), ld.y > 0.0 || depth_in_fog == 0.0);
+    }
+    let f = direct(s, ld);
+    if all(f <= vec3<f32>(0.0)) {
+        return vec3<f32>(0.0);
+    }
+    var vis = 1.0;
+    if count > 0u {
+        vis = shadow(first, count, p, s.n, ld, view_depth, rgb.w, px);
+    }
+    return f * e * vis;
+}
+
 fn equirect_uv(d: vec3<f32>) -> vec2<f32> {
     let az = atan2(d.x, -d.z);
     let u0 = az / (2.0 * PI);
@@ -380,34 +399,10 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     var l = vec3<f32>(0.0);
     // The Sun and the Moon.
     if u.sun_dir.w > 0.5 {
-        let ld = u.sun_dir.xyz;
-        var e = u.sun_rgb.rgb;
-        if fog_on {
-            e = e * select(0.0, exp(-u.fog.x * depth_in_fog / max(ld.y, 1e-4)), ld.y > 0.0 || depth_in_fog == 0.0);
-        }
-        let f = direct(s, ld);
-        if any(f > vec3<f32>(0.0)) {
-            var vis = 1.0;
-            if u.counts.y > 0u {
-                vis = shadow(0u, u.counts.y, p, s.n, ld, view_depth, u.sun_rgb.w, gid.xy);
-            }
-            l += f * e * vis;
-        }
+        l += directional(s, p, u.sun_dir.xyz, u.sun_rgb, 0u, u.counts.y, view_depth, depth_in_fog, gid.xy);
     }
     if u.moon_dir.w > 0.5 {
-        let ld = u.moon_dir.xyz;
-        var e = u.moon_rgb.rgb;
-        if fog_on {
-            e = e * select(0.0, exp(-u.fog.x * depth_in_fog / max(ld.y, 1e-4)), ld.y > 0.0 || depth_in_fog == 0.0);
-        }
-        let f = direct(s, ld);
-        if any(f > vec3<f32>(0.0)) {
-            var vis = 1.0;
-            if u.counts.z > 0u {
-                vis = shadow(u.flags.y, u.counts.z, p, s.n, ld, view_depth, u.moon_rgb.w, gid.xy);
-            }
-            l += f * e * vis;
-        }
+        l += directional(s, p, u.moon_dir.xyz, u.moon_rgb, u.flags.y, u.counts.z, view_depth, depth_in_fog, gid.xy);
     }
     // The sky: the irradiance of the interleaved sets, averaged over the
     // N × N block around the pixel where the surface continues.
