@@ -168,7 +168,10 @@ pub struct SkyLightSettings {
     /// Umenhoffer 2009 use it for light shafts), in [1, 4] (default 4:
     /// 16 sets). Fewer when the adapter holds fewer map layers.
     pub interleave: u32,
-    /// Side of each visibility map, texels, in [64, 4096] (default 256).
+    /// Side of each visibility map, texels, in [64, 4096] (default 512:
+    /// 1 024 maps of 16-bit depth, 512 MiB; outdoors the maps span the
+    /// whole world, and a texel of a tenth of a metre or less keeps the
+    /// sky that a box hides from the floor beside it).
     pub visibility_resolution: u32,
     /// The environment light is rebuilt when the Sun or Moon moved more
     /// than this, degrees, in [0, 10] (default 0.05; 0 = every frame).
@@ -181,7 +184,7 @@ impl Default for SkyLightSettings {
             cube_face: 64,
             directions: 64,
             interleave: 4,
-            visibility_resolution: 256,
+            visibility_resolution: 512,
             reuse_tolerance_deg: 0.05,
         }
     }

@@ -10,10 +10,11 @@
 //! * FLIP (`nv-flip`) of the tone-mapped images.
 //!
 //! `cargo test -p himmel-tests --test world_mitsuba -- --nocapture` prints
-//! the table the README quotes. The bounds below are what this version
-//! achieves (the goals are 3 % lit, 5 % sky-lit, FLIP 0.05;
-//! see the README for where the sky-lit error comes from): a change that
-//! makes any case worse fails.
+//! the table the README quotes. The bounds below are the goals
+//! (3 % lit, 5 % sky-lit, FLIP 0.05) for the atrium and the plane with
+//! boxes, and what this version achieves for the sun room (see the README
+//! for where its sky-lit error comes from): a change that makes any case
+//! worse fails.
 
 mod wgpu_common;
 mod world_common;
@@ -103,19 +104,18 @@ fn worlds_against_mitsuba() {
         &std::fs::read_to_string(root().join("tools/world_cases.json")).unwrap(),
     )
     .unwrap();
-    // What this version achieves per case on lavapipe with a margin of
-    // about a quarter (lit, sky-lit, FLIP).
+    // The goals (lit 3 %, sky-lit 5 %, FLIP 0.05) where this
+    // version meets them; the sun room (sky light through its window only)
+    // is bounded at what this version achieves on lavapipe, with a margin
+    // of about a quarter (lit, sky-lit, FLIP).
+    let goal = (0.03, 0.05, 0.05);
     let bounds = |name: &str| -> (f64, f64, f64) {
         match name {
-            "sun_room_high" => (0.01, 0.21, 0.18),
-            "sun_room_low" => (0.05, 0.38, 0.28),
-            "sun_room_night" => (0.01, 0.20, 0.17),
-            "atrium_high" => (0.005, 0.13, 0.05),
-            "atrium_low" => (0.05, 0.13, 0.13),
-            "atrium_night" => (0.005, 0.14, 0.04),
-            "plane_and_boxes_high" => (0.005, 0.12, 0.02),
-            "plane_and_boxes_low" => (0.012, 0.17, 0.035),
-            "plane_and_boxes_night" => (0.005, 0.10, 0.015),
+            "sun_room_high" => (0.01, 0.16, 0.14),
+            "sun_room_low" => (0.02, 0.24, 0.2),
+            "sun_room_night" => (0.01, 0.16, 0.14),
+            "atrium_high" | "atrium_low" | "atrium_night" => goal,
+            "plane_and_boxes_high" | "plane_and_boxes_low" | "plane_and_boxes_night" => goal,
             other => panic!("no bounds for case {other}"),
         }
     };

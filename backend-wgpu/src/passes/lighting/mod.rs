@@ -344,16 +344,14 @@ impl LightingPasses {
         };
         let tables = self.tables.get_or_insert_with(|| ShadeTables::new(gpu));
         if let Some(env) = inputs.env {
-            // The cells carry the visibility maps' texel and depth range,
-            // which follow the world: written every frame (kilobytes); the
-            // prefiltered maps only when the sky changed.
+            // The cells carry the visibility maps' texel, which follows the
+            // world: written every frame (kilobytes); the prefiltered maps
+            // only when the sky changed.
             let res = inputs.scene.lighting.sky.visibility_resolution;
             let extent = world.bounds.map_or(0.0, |b| b.extent());
             let texel = extent * 1.01 / res as f32;
-            // The maps' depth range: the bounds' extent along any direction
-            // plus ortho_light's 0.5 m margins.
             let specular = inputs.env_changed || !tables.has_env();
-            tables.upload_env(gpu, env, texel, extent + 1.0, specular);
+            tables.upload_env(gpu, env, texel, specular);
         }
         let air_scale = inputs.air.map(|a| tables.upload_air(gpu, a));
         let u = shade_uniforms(

@@ -17,8 +17,13 @@ pub const GBUFFER_FORMATS: [wgpu::TextureFormat; 5] = [
     wgpu::TextureFormat::Rg16Float,
 ];
 
-/// The depth format of the G-buffer and of every light map.
+/// The depth format of the G-buffer and of the shadow maps.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// The depth format of the sky's visibility maps: 16 bits across a
+/// world's depth (a millimetre in 60 m) halve the memory of a thousand
+/// maps.
+pub const VISIBILITY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth16Unorm;
 
 /// Stride of the light matrices in their uniform buffer (dynamic offsets).
 pub const MATRIX_STRIDE: u64 = 256;
@@ -29,8 +34,10 @@ pub struct Pipelines {
     pub gbuffer: wgpu::RenderPipeline,
     /// Its group 0: camera, materials, base-colour textures, sampler.
     pub gbuffer_layout: wgpu::BindGroupLayout,
-    /// The light maps' depth raster.
+    /// The shadow maps' depth raster ([`DEPTH_FORMAT`]).
     pub depth: wgpu::RenderPipeline,
+    /// The visibility maps' depth raster ([`VISIBILITY_FORMAT`]).
+    pub visibility_depth: wgpu::RenderPipeline,
     /// Its group 0: one light matrix at a dynamic offset.
     pub depth_layout: wgpu::BindGroupLayout,
     /// The lighting compute pass.
@@ -137,7 +144,8 @@ impl Pipelines {
             multiview_mask: None,
             cache: None,
         });
-        let depth = depth_pipeline(gpu, &depth_layout);
+        let depth = depth_pipeline(gpu, &depth_layout, DEPTH_FORMAT);
+        let visibility_depth = depth_pipeline(gpu, &depth_layout, VISIBILITY_FORMAT);
         let smod = gpu.shader(
             "shade.wgsl",
             include_str!("../../shaders/lighting/shade.wgsl"),
@@ -196,6 +204,7 @@ impl Pipelines {
             gbuffer,
             gbuffer_layout,
             depth,
+            visibility_depth,
             depth_layout,
             shade,
             shade_layout,
@@ -301,7 +310,11 @@ fn layouts(
 }
 
 /// The depth-only raster of the light maps (positions only).
-fn depth_pipeline(gpu: &Gpu, depth_layout: &wgpu::BindGroupLayout) -> wgpu::RenderPipeline {
+fn depth_pipeline(
+    gpu: &Gpu,
+    depth_layout: &wgpu::BindGroupLayout,
+    format: wgpu::TextureFormat,
+) -> wgpu::RenderPipeline {
     let dev = &gpu.device;
     let pos_only = [wgpu::VertexAttribute {
         format: wgpu::VertexFormat::Float32x3,
@@ -328,7 +341,7 @@ fn depth_pipeline(gpu: &Gpu, depth_layout: &wgpu::BindGroupLayout) -> wgpu::Rend
         },
         primitive: wgpu::PrimitiveState::default(),
         depth_stencil: Some(wgpu::DepthStencilState {
-            format: DEPTH_FORMAT,
+            format,
             depth_write_enabled: Some(true),
             depth_compare: Some(wgpu::CompareFunction::LessEqual),
             stencil: Default::default(),

@@ -10,7 +10,9 @@ use wgpu::util::DeviceExt;
 
 use super::env::{brdf_lut, EnvLight, BRDF_LUT_SIZE, SPECULAR_LEVELS, SPECULAR_SIZE};
 use super::mesh::GpuWorld;
-use super::pipelines::{Pipelines, DEPTH_FORMAT, GBUFFER_FORMATS, MATRIX_STRIDE};
+use super::pipelines::{
+    Pipelines, DEPTH_FORMAT, GBUFFER_FORMATS, MATRIX_STRIDE, VISIBILITY_FORMAT,
+};
 use super::view::LightView;
 use crate::gpu::{bind_group, Gpu};
 
@@ -190,10 +192,12 @@ fn dir_key(dirs: &[Vec3]) -> Vec<[u32; 3]> {
         .collect()
 }
 
-/// Renders the world's depth into each layer of `tex` from `views`.
+/// Renders the world's depth into each layer of `tex` from `views` with
+/// `pipeline` (the raster of `tex`'s format).
 fn render_layers(
     gpu: &Gpu,
     pipes: &Pipelines,
+    pipeline: &wgpu::RenderPipeline,
     world: &GpuWorld,
     tex: &wgpu::Texture,
     views: &[LightView],
@@ -221,7 +225,7 @@ fn render_layers(
     let mut enc = gpu.device.create_command_encoder(&Default::default());
     for k in 0..views.len() {
         let mut pass = layer_pass(&mut enc, tex, k as u32);
-        pass.set_pipeline(&pipes.depth);
+        pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &group, &[(k as u64 * MATRIX_STRIDE) as u32]);
         pass.set_vertex_buffer(0, world.vertices.slice(..));
         pass.set_index_buffer(world.indices.slice(..), wgpu::IndexFormat::Uint32);
@@ -238,13 +242,14 @@ fn depth_array(
     label: &str,
     res: u32,
     layers: u32,
+    format: wgpu::TextureFormat,
 ) -> (wgpu::Texture, wgpu::TextureView) {
     let tex = texture(
         gpu,
         label,
         (res, res, layers.max(1)),
         wgpu::TextureDimension::D2,
-        DEPTH_FORMAT,
+        format,
         wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
     );
     let view = tex.create_view(&wgpu::TextureViewDescriptor {
@@ -275,8 +280,9 @@ impl LightMaps {
         dirs: &[Vec3],
         res: u32,
     ) -> Result<(), RenderError> {
-        let (tex, view) = depth_array(gpu, "sky visibility", res, views.len() as u32);
-        render_layers(gpu, pipes, world, &tex, views)?;
+        let layers = views.len() as u32;
+        let (tex, view) = depth_array(gpu, "sky visibility", res, layers, VISIBILITY_FORMAT);
+        render_layers(gpu, pipes, &pipes.visibility_depth, world, &tex, views)?;
         let mats: Vec<[f32; 16]> = views.iter().map(|v| v.matrix.to_cols_array()).collect();
         self.cell_matrices = Some(gpu.device.create_buffer_init(
             &wgpu::util::BufferInitDescriptor {
@@ -302,11 +308,11 @@ impl LightMaps {
         let layers = views.len() as u32;
         let keep = matches!(&self.shadows, Some((_, _, r, l)) if *r == res && *l == layers);
         if !keep {
-            let (tex, view) = depth_array(gpu, "shadow cascades", res, layers);
+            let (tex, view) = depth_array(gpu, "shadow cascades", res, layers, DEPTH_FORMAT);
             self.shadows = Some((tex, view, res, layers));
         }
         if let Some((tex, ..)) = &self.shadows {
-            render_layers(gpu, pipes, world, tex, views)?;
+            render_layers(gpu, pipes, &pipes.depth, world, tex, views)?;
         }
         Ok(())
     }
@@ -316,7 +322,7 @@ impl LightMaps {
     /// one identity matrix.
     pub fn ensure_stand_ins(&mut self, gpu: &Gpu) -> Result<(), RenderError> {
         if self.dummy.is_none() {
-            let (tex, view) = depth_array(gpu, "no light map", 1, 1);
+            let (tex, view) = depth_array(gpu, "no light map", 1, 1, DEPTH_FORMAT);
             clear_depth(gpu, &tex)?;
             self.dummy = Some(view);
         }
@@ -508,27 +514,16 @@ impl ShadeTables {
         self.env_scale
     }
 
-    /// Uploads the sky cells (with their visibility maps' texel size and
-    /// depth range, m, and the tangent of each cell's cone) and the
-    /// prefiltered environment (when `specular`).
-    pub fn upload_env(
-        &mut self,
-        gpu: &Gpu,
-        env: &EnvLight,
-        texel_m: f32,
-        depth_m: f32,
-        specular: bool,
-    ) {
+    /// Uploads the sky cells (with their visibility maps' texel size, m)
+    /// and the prefiltered environment (when `specular`).
+    pub fn upload_env(&mut self, gpu: &Gpu, env: &EnvLight, texel_m: f32, specular: bool) {
         let cells: Vec<[f32; 16]> = env
             .cells
             .iter()
             .map(|c| {
                 let mut v = [0.0f32; 16];
                 v[..4].copy_from_slice(&[c.dir.x, c.dir.y, c.dir.z, texel_m]);
-                // The cone of the cell's solid angle Ω: cos ρ = 1 − Ω / 2π.
-                let cos_rho = (1.0 - c.solid_angle / std::f32::consts::TAU).clamp(-1.0, 1.0);
-                let tan_rho = (1.0 - cos_rho * cos_rho).max(0.0).sqrt() / cos_rho.max(1e-3);
-                let w = [c.solid_angle, depth_m, tan_rho.min(4.0)];
+                let w = [c.solid_angle, 0.0, 0.0];
                 for ch in 0..3 {
                     let m = c.moment[ch];
                     v[4 + 4 * ch..8 + 4 * ch].copy_from_slice(&[m.x, m.y, m.z, w[ch]]);
