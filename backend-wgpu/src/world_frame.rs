@@ -39,10 +39,18 @@ pub struct EnvKey {
     face: u32,
     directions: Vec<[u32; 3]>,
     observer_km: f64,
+    /// Whether the Sun and the Moon light the world (they have aureoles).
+    bodies: [bool; 2],
 }
 
 impl EnvKey {
-    fn new(scene: &Scene, state: &SkyState, plan: &FramePlan, dirs: &[Vec3]) -> EnvKey {
+    fn new(
+        scene: &Scene,
+        state: &SkyState,
+        plan: &FramePlan,
+        dirs: &[Vec3],
+        bodies: [Option<Vec3>; 2],
+    ) -> EnvKey {
         EnvKey {
             sun: state.sun.dir(),
             moon: state.moon.dir(),
@@ -59,6 +67,7 @@ impl EnvKey {
                 .map(|d| d.to_array().map(f32::to_bits))
                 .collect(),
             observer_km: state.observer_altitude_km,
+            bodies: bodies.map(|b| b.is_some()),
         }
     }
 
@@ -77,6 +86,7 @@ impl EnvKey {
             && self.face == now.face
             && self.directions == now.directions
             && self.moon_scale.is_some() == now.moon_scale.is_some()
+            && self.bodies == now.bodies
             && (self.sun_scale / now.sun_scale - 1.0).abs() < 1e-3
             && (self.observer_km - now.observer_km).abs() < 1e-3
             && ds <= tolerance_deg
@@ -139,11 +149,15 @@ impl WgpuRenderer {
         let sky_on = plan.runs(Effect::Atmosphere);
         let max_layers = self.gpu.device.limits().max_texture_array_layers;
         let (dirs, sets) = LightingPasses::cell_directions(scene, max_layers);
+        // The Sun and the Moon when they light the world: the sky around
+        // them gets cells of its own (`env::aureole_directions`).
+        let bodies = [lights.direct.sun, lights.direct.moon]
+            .map(|l| l.map(|l| l.dir_world().as_vec3().normalize()));
         // The environment light.
         let t = Clock::now();
         let mut env_changed = false;
         if sky_on {
-            let key = EnvKey::new(scene, state, plan, &dirs);
+            let key = EnvKey::new(scene, state, plan, &dirs, bodies);
             let tol = scene.lighting.sky.reuse_tolerance_deg;
             match self.env.as_ref().and_then(|e| e.key.reuse(&key, tol)) {
                 Some(why) => stats.push(PassStat {
@@ -153,7 +167,7 @@ impl WgpuRenderer {
                     reason: Some(why),
                 }),
                 None => {
-                    let env = self.build_env(scene, state, &dirs, sets)?;
+                    let env = self.build_env(scene, state, &dirs, sets, &bodies)?;
                     self.env = Some(EnvCache { key, env });
                     env_changed = true;
                     stats.push(PassStat {
@@ -208,6 +222,7 @@ impl WgpuRenderer {
         state: &SkyState,
         dirs: &[Vec3],
         sets: usize,
+        bodies: &[Option<Vec3>; 2],
     ) -> Result<EnvLight, RenderError> {
         let mut s = scene.clone();
         s.world = None;
@@ -235,7 +250,8 @@ impl WgpuRenderer {
         }
         let frame = self.render_frame(&s, &st)?;
         let cube = self.read_back(&frame)?;
-        Ok(EnvLight::from_cube(&cube, dirs, sets))
+        let bodies: Vec<Vec3> = bodies.iter().flatten().copied().collect();
+        Ok(EnvLight::from_cube(&cube, dirs, sets, &bodies))
     }
 
     /// The aerial perspective over the camera's view, out to the farthest

@@ -20,6 +20,15 @@
 //!   and the block's average is the quadrature over every direction, with
 //!   cells as small as the union's (a set's own, coarse partition would
 //!   spread a bright region of the sky over the wide cell around it).
+//! * **aureoles** — the sky climbs steeply towards the Sun (and the
+//!   Moon): the aerosols' forward peak puts much of the sky's light within
+//!   a few degrees of the disk, more than any cell of the uniform sets
+//!   can resolve, and a window or a box edge cutting through that region
+//!   would switch it on and off whole. So [`AUREOLE_DIRECTIONS`] extra
+//!   directions in rings around each body ([`aureole_directions`]) follow
+//!   the cells of the sets; the sky within [`AUREOLE_DEG`] of the body, on
+//!   its side of the horizon, is cut into their cells (weight 1: every
+//!   pixel sums them all).
 //! * **SH9 irradiance** (Ramamoorthi & Hanrahan 2001), unoccluded, for the
 //!   API and the checks;
 //! * **prefiltered specular** — equirect maps of the radiance convolved
@@ -53,14 +62,46 @@ pub struct SkyCell {
     pub solid_angle: f32,
 }
 
+/// Radius of the sky around the Sun or Moon cut into the aureole's own
+/// cells, degrees.
+pub const AUREOLE_DEG: f32 = 10.0;
+
+/// The aureole's rings: (radius, degrees; directions).
+const AUREOLE_RINGS: [(f32, usize); 4] = [(0.0, 1), (2.0, 6), (5.0, 12), (8.5, 18)];
+
+/// Directions of one body's aureole cells.
+pub const AUREOLE_DIRECTIONS: usize = 37;
+
+/// The directions of a body's aureole cells: the body itself and rings
+/// around it ([`AUREOLE_RINGS`]), world frame, unit.
+pub fn aureole_directions(body: Vec3) -> Vec<Vec3> {
+    let b = body.normalize();
+    // Two unit vectors across the body's direction.
+    let side = if b.y.abs() < 0.9 { Vec3::Y } else { Vec3::X };
+    let e1 = b.cross(side).normalize();
+    let e2 = b.cross(e1);
+    let mut out = Vec::with_capacity(AUREOLE_DIRECTIONS);
+    for (ring, &(radius, n)) in AUREOLE_RINGS.iter().enumerate() {
+        let r = radius.to_radians();
+        for k in 0..n {
+            // Alternate rings are turned by half a step.
+            let phi = std::f32::consts::TAU * (k as f32 + 0.5 * (ring % 2) as f32) / n as f32;
+            out.push((b * r.cos() + (e1 * phi.cos() + e2 * phi.sin()) * r.sin()).normalize());
+        }
+    }
+    out
+}
+
 /// The sky's environment light of one instant.
 #[derive(Debug, Clone)]
 pub struct EnvLight {
     /// The occludable cells: `sets` partitions of the sphere, set after
     /// set, each upper hemisphere first.
     pub cells: Vec<SkyCell>,
-    /// The number of interleaved sets the cells form.
+    /// The number of interleaved sets the first cells form.
     pub sets: usize,
+    /// The aureoles' cells after them ([`AUREOLE_DIRECTIONS`] a body).
+    pub aureole_cells: usize,
     /// SH9 coefficients of the radiance, per channel (order l ≤ 2).
     pub sh9: [[f32; 9]; 3],
     /// Horizontal illuminance from the upper hemisphere, linear sRGB lux.
@@ -121,16 +162,23 @@ impl EnvLight {
     /// Builds the environment light from a sky cube map (6H × H strip,
     /// faces in the scene frame's order) with cells around `dirs`, which
     /// hold `sets` sets of equal size, the upper-hemisphere directions
-    /// having y > 0. A texel belongs to the nearest direction of its own
-    /// hemisphere among all of them, or is dropped when its hemisphere has
-    /// none; each cell's moment and solid angle count `sets` times (a
-    /// pixel sums one set).
-    pub fn from_cube(cube: &HdrImage, dirs: &[Vec3], sets: usize) -> EnvLight {
+    /// having y > 0, and the aureoles of `bodies` (unit directions towards
+    /// the Sun or Moon). A texel within [`AUREOLE_DEG`] of a body on its
+    /// side of the horizon belongs to the nearest of that body's aureole
+    /// directions; any other to the nearest direction of its own
+    /// hemisphere among all of `dirs` (dropped when its hemisphere has
+    /// none), whose moment and solid angle count `sets` times (a pixel sums
+    /// one set).
+    pub fn from_cube(cube: &HdrImage, dirs: &[Vec3], sets: usize, bodies: &[Vec3]) -> EnvLight {
         let sets = sets.max(1);
         let weight = sets as f32;
         let texels = cube_texels(cube);
+        let regular = dirs.len();
+        let aureoles: Vec<Vec3> = bodies.iter().flat_map(|&b| aureole_directions(b)).collect();
+        let cos_aureole = AUREOLE_DEG.to_radians().cos();
         let mut cells: Vec<SkyCell> = dirs
             .iter()
+            .chain(&aureoles)
             .map(|&dir| SkyCell {
                 dir,
                 moment: [Vec3::ZERO; 3],
@@ -143,18 +191,25 @@ impl EnvLight {
         for &(w, sa, l) in &texels {
             max_radiance = max_radiance.max(l[0].max(l[1]).max(l[2]));
             let up = w.y >= 0.0;
-            let best = cells
+            let body = bodies
                 .iter()
-                .enumerate()
-                .filter(|(_, c)| (c.dir.y > 0.0) == up)
-                .max_by(|a, b| w.dot(a.1.dir).total_cmp(&w.dot(b.1.dir)))
-                .map(|(k, _)| k);
-            if let Some(k) = best {
+                .position(|b| (b.y >= 0.0) == up && w.dot(*b) >= cos_aureole);
+            let nearest = |range: std::ops::Range<usize>| {
+                range
+                    .filter(|&k| (cells[k].dir.y > 0.0) == up)
+                    .max_by(|&a, &b| w.dot(cells[a].dir).total_cmp(&w.dot(cells[b].dir)))
+            };
+            let first = |i: usize| regular + i * AUREOLE_DIRECTIONS;
+            let best = body
+                .and_then(|i| nearest(first(i)..first(i) + AUREOLE_DIRECTIONS))
+                .map(|k| (k, 1.0))
+                .or_else(|| nearest(0..regular).map(|k| (k, weight)));
+            if let Some((k, f)) = best {
                 let c = &mut cells[k];
                 for ch in 0..3 {
-                    c.moment[ch] += w * (l[ch] * sa * weight);
+                    c.moment[ch] += w * (l[ch] * sa * f);
                 }
-                c.solid_angle += sa * weight;
+                c.solid_angle += sa * f;
             }
             let basis = sh9_basis(w);
             for ch in 0..3 {
@@ -170,6 +225,7 @@ impl EnvLight {
         EnvLight {
             cells,
             sets,
+            aureole_cells: aureoles.len(),
             sh9,
             horizontal_rgb: horizontal,
             specular,
@@ -207,11 +263,18 @@ impl EnvLight {
         let mut e = [0.0f32; 3];
         for (k, c) in self.cells.iter().enumerate() {
             let v = visible(k);
+            // The sets' cells count once per set, the aureoles' in every
+            // set: weight them as the block's average does.
+            let f = if k < self.cells.len() - self.aureole_cells {
+                1.0 / self.sets as f32
+            } else {
+                1.0
+            };
             for ch in 0..3 {
-                e[ch] += v * n.dot(c.moment[ch]).max(0.0);
+                e[ch] += f * v * n.dot(c.moment[ch]).max(0.0);
             }
         }
-        e.map(|x| x / self.sets as f32)
+        e
     }
 }
 
@@ -392,7 +455,7 @@ mod tests {
                 [0.0; 3]
             }
         });
-        let env = EnvLight::from_cube(&c, &hemisphere_directions(40, true), 1);
+        let env = EnvLight::from_cube(&c, &hemisphere_directions(40, true), 1, &[]);
         // The default layout, 16 interleaved sets of 32 directions a
         // hemisphere: their average is the quadrature over all the
         // directions; each alone (one pixel of the block) estimates it to
@@ -400,7 +463,7 @@ mod tests {
         // the block's average removes that spread where the surface
         // continues).
         let sets = crate::passes::lighting::view::direction_sets(32, true, 16);
-        let env16 = EnvLight::from_cube(&c, &sets, 16);
+        let env16 = EnvLight::from_cube(&c, &sets, 16, &[]);
         let e = env16.cell_irradiance(Vec3::Y, |_| 1.0);
         assert!(
             (e[1] / (std::f32::consts::PI * 1000.0) - 1.0).abs() < 2e-3,
@@ -455,13 +518,16 @@ mod tests {
             }
         });
         let dirs = crate::passes::lighting::view::direction_sets(32, true, 16);
-        let env = EnvLight::from_cube(&c, &dirs, 16);
+        let env = EnvLight::from_cube(&c, &dirs, 16, &[]);
         let exact = |n: Vec3| -> f32 {
             cube_texels(&c)
                 .iter()
                 .map(|t| t.2[1] * t.1 * n.dot(t.0).max(0.0))
                 .sum()
         };
+        // With the spot's body given, its aureole cells take the spot.
+        let with_aureole = EnvLight::from_cube(&c, &dirs, 16, &[body]);
+        assert_eq!(with_aureole.aureole_cells, AUREOLE_DIRECTIONS);
         for n in [
             Vec3::new(0.0, 0.6, -0.8),
             Vec3::Y,
@@ -473,9 +539,32 @@ mod tests {
                 (body * a.cos() + perp * a.sin()).normalize()
             },
         ] {
-            let e = env.cell_irradiance(n, |_| 1.0)[1];
             let want = exact(n);
-            assert!((e / want - 1.0).abs() < 0.01, "{n}: {e} vs {want}");
+            for env in [&env, &with_aureole] {
+                let e = env.cell_irradiance(n, |_| 1.0)[1];
+                assert!((e / want - 1.0).abs() < 0.01, "{n}: {e} vs {want}");
+            }
+        }
+    }
+
+    /// The aureole's directions: the body first, then rings at their radii.
+    #[test]
+    fn aureole_rings_surround_the_body() {
+        for body in [
+            Vec3::new(0.3, 0.1, -0.9),
+            Vec3::Y,
+            Vec3::new(0.0, -0.2, 1.0),
+        ] {
+            let d = aureole_directions(body);
+            assert_eq!(d.len(), AUREOLE_DIRECTIONS);
+            let mut k = 0;
+            for &(radius, n) in &AUREOLE_RINGS {
+                for v in &d[k..k + n] {
+                    let angle = v.dot(body.normalize()).clamp(-1.0, 1.0).acos().to_degrees();
+                    assert!((v.length() - 1.0).abs() < 1e-5 && (angle - radius).abs() < 0.01);
+                }
+                k += n;
+            }
         }
     }
 

@@ -141,12 +141,14 @@ impl LightingPasses {
     /// interleaved sets they form: `lighting.sky.directions` per set (all
     /// in the upper hemisphere over a ground plane, else half in each),
     /// `interleave`² sets, fewer when the adapter's texture arrays hold
-    /// fewer than `max_layers` maps.
+    /// fewer than `max_layers` maps (with the aureoles' maps).
     pub fn cell_directions(scene: &Scene, max_layers: u32) -> (Vec<Vec3>, usize) {
         let ground = scene.world.as_ref().is_some_and(|w| w.ground);
         let n = scene.lighting.sky.directions as usize;
         let mut side = scene.lighting.sky.interleave.max(1) as usize;
-        while side > 1 && side * side * n > max_layers as usize {
+        // Room for the Sun's and the Moon's aureoles too.
+        let aureoles = 2 * env::AUREOLE_DIRECTIONS;
+        while side > 1 && side * side * n + aureoles > max_layers as usize {
             side -= 1;
         }
         let sets = side * side;
@@ -492,9 +494,9 @@ fn shade_uniforms(
         fog,
         scales: [env_scale, ap_scale, ap_max, ap_slices],
         counts: [
-            inputs
-                .env
-                .map_or(0, |e| (e.cells.len() / e.sets.max(1)) as u32),
+            inputs.env.map_or(0, |e| {
+                ((e.cells.len() - e.aureole_cells) / e.sets.max(1)) as u32
+            }),
             if sun_dir[3] > 0.0 { sun_layers } else { 0 },
             if moon_dir[3] > 0.0 { moon_layers } else { 0 },
             filter,
@@ -506,7 +508,7 @@ fn shade_uniforms(
                 .env
                 .map_or(1, |e| (e.sets as f64).sqrt().round() as u32)
                 .max(1),
-            0,
+            inputs.env.map_or(0, |e| e.aureole_cells as u32),
         ],
         cascade,
         cascade_info,

@@ -44,7 +44,8 @@ struct Shade {
     scales: vec4<f32>,
     // Sky cells, Sun cascades, Moon cascades, filter (0 off, 1 pcf, 2 soft).
     counts: vec4<u32>,
-    // Whether the sky light is on, the first Moon layer, 0, 0.
+    // Whether the sky light is on, the first Moon layer, the interleave
+    // side, the aureoles' cells.
     flags: vec4<u32>,
     cascade: array<mat4x4<f32>, 8>,
     // texel (m), depth range (m), split view depth (m; 1e30: the last), 0.
@@ -336,13 +337,18 @@ fn sky(@builtin(global_invocation_id) gid: vec3<u32>) {
     let side = u.flags.z;
     let cell_set = (gid.x % side) + (gid.y % side) * side;
     let per = u.counts.x;
+    // The aureoles' cells follow the sets' (env.rs); every pixel sums them.
+    let aureole_first = side * side * per;
     var e = vec3<f32>(0.0);
     var best = -2.0;
     var spec_vis = 1.0;
     var open_sum = 0.0;
     var open_all = 0.0;
-    for (var j = 0u; j < per; j++) {
-        let k = cell_set * per + j;
+    for (var j = 0u; j < per + u.flags.w; j++) {
+        var k = cell_set * per + j;
+        if j >= per {
+            k = aureole_first + j - per;
+        }
         let c = cells[k];
         let proj = vec3<f32>(dot(n, c.r.xyz), dot(n, c.g.xyz), dot(n, c.b.xyz));
         let upper = c.dir.y > 0.0;
