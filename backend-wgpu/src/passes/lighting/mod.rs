@@ -248,9 +248,18 @@ impl LightingPasses {
             .iter()
             .map(|&d| view::ortho_light(d, centre, half, &bounds, res))
             .collect();
-        self.maps
+        let drawn = self
+            .maps
             .build_visibility(gpu, pipes, world, &views, &dirs, res)?;
-        Ok(stat("world/sky-visibility", true, Some(ms(t)), None))
+        // Only the aureoles' maps follow the Sun and Moon: say so when the
+        // others were kept.
+        let why = (drawn < views.len()).then(|| {
+            format!(
+                "redrew {drawn} of {} maps (the aureoles' directions moved)",
+                views.len()
+            )
+        });
+        Ok(stat("world/sky-visibility", true, Some(ms(t)), why))
     }
 
     /// Step 3: the Sun's and Moon's cascades, kept while the lights, the camera

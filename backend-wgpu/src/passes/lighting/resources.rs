@@ -192,8 +192,9 @@ fn dir_key(dirs: &[Vec3]) -> Vec<[u32; 3]> {
         .collect()
 }
 
-/// Renders the world's depth into each layer of `tex` from `views` with
-/// `pipeline` (the raster of `tex`'s format).
+/// Renders the world's depth into layer k of `tex` from `views[k]` with
+/// `pipeline` (the raster of `tex`'s format), for every k that `redo`
+/// selects.
 fn render_layers(
     gpu: &Gpu,
     pipes: &Pipelines,
@@ -201,6 +202,7 @@ fn render_layers(
     world: &GpuWorld,
     tex: &wgpu::Texture,
     views: &[LightView],
+    redo: impl Fn(usize) -> bool,
 ) -> Result<(), RenderError> {
     let bytes = super::matrix_bytes(views);
     let ubuf = gpu
@@ -223,7 +225,7 @@ fn render_layers(
         }],
     });
     let mut enc = gpu.device.create_command_encoder(&Default::default());
-    for k in 0..views.len() {
+    for k in (0..views.len()).filter(|&k| redo(k)) {
         let mut pass = layer_pass(&mut enc, tex, k as u32);
         pass.set_pipeline(pipeline);
         pass.set_bind_group(0, &group, &[(k as u64 * MATRIX_STRIDE) as u32]);
@@ -270,7 +272,10 @@ impl LightMaps {
         self.vis_key.as_ref() == Some(&(dir_key(dirs), res))
     }
 
-    /// Builds one visibility map per direction.
+    /// Builds one visibility map per direction; of maps kept from the
+    /// last call (same world, size and count) only those whose direction
+    /// changed (the aureoles', which follow the Sun and Moon) are redrawn.
+    /// Returns how many were drawn.
     pub fn build_visibility(
         &mut self,
         gpu: &Gpu,
@@ -279,10 +284,32 @@ impl LightMaps {
         views: &[LightView],
         dirs: &[Vec3],
         res: u32,
-    ) -> Result<(), RenderError> {
+    ) -> Result<usize, RenderError> {
         let layers = views.len() as u32;
-        let (tex, view) = depth_array(gpu, "sky visibility", res, layers, VISIBILITY_FORMAT);
-        render_layers(gpu, pipes, &pipes.visibility_depth, world, &tex, views)?;
+        let key = dir_key(dirs);
+        let kept = match (&self.visibility, &self.vis_key) {
+            (Some((tex, _)), Some((old, r)))
+                if *r == res && old.len() == key.len() && tex.depth_or_array_layers() == layers =>
+            {
+                Some(old.clone())
+            }
+            _ => None,
+        };
+        let (tex, view) = match (kept.is_some(), self.visibility.take()) {
+            (true, Some(t)) => t,
+            _ => depth_array(gpu, "sky visibility", res, layers, VISIBILITY_FORMAT),
+        };
+        let redo = |k: usize| kept.as_ref().is_none_or(|old| old[k] != key[k]);
+        let drawn = (0..views.len()).filter(|&k| redo(k)).count();
+        render_layers(
+            gpu,
+            pipes,
+            &pipes.visibility_depth,
+            world,
+            &tex,
+            views,
+            redo,
+        )?;
         let mats: Vec<[f32; 16]> = views.iter().map(|v| v.matrix.to_cols_array()).collect();
         self.cell_matrices = Some(gpu.device.create_buffer_init(
             &wgpu::util::BufferInitDescriptor {
@@ -292,8 +319,8 @@ impl LightMaps {
             },
         ));
         self.visibility = Some((tex, view));
-        self.vis_key = Some((dir_key(dirs), res));
-        Ok(())
+        self.vis_key = Some((key, res));
+        Ok(drawn)
     }
 
     /// Builds the shadow cascades (Sun's, then Moon's layers).
@@ -312,7 +339,7 @@ impl LightMaps {
             self.shadows = Some((tex, view, res, layers));
         }
         if let Some((tex, ..)) = &self.shadows {
-            render_layers(gpu, pipes, &pipes.depth, world, tex, views)?;
+            render_layers(gpu, pipes, &pipes.depth, world, tex, views, |_| true)?;
         }
         Ok(())
     }
