@@ -143,12 +143,17 @@ pub struct Sequence {
     start: Instant,
 }
 
-/// RFC 3339 UTC with milliseconds (what the frame scenes carry): the
-/// instant rounded to the millisecond, above the ~20 µs resolution of an
-/// f64 Julian day, never into a second that does not exist.
+/// Half a millisecond, days: frame instants are read half a millisecond
+/// late and cut to the millisecond, which rounds them with the carry into
+/// the next second, minute or day done by the calendar.
+const HALF_MS_DAYS: f64 = 5e-4 / SECONDS_PER_DAY;
+
+/// RFC 3339 UTC with milliseconds (what the frame scenes carry): the clock
+/// reading cut to the millisecond (never into a second that does not
+/// exist).
 fn rfc3339_ms(t: &UtcDateTime) -> String {
     let last_ms = if t.second >= 60.0 { 60_999.0 } else { 59_999.0 };
-    let ms = (t.second * 1e3).round().min(last_ms) as u32;
+    let ms = (t.second * 1e3).floor().min(last_ms) as u32;
     format!(
         "{:04}-{:02}-{:02}T{:02}:{:02}:{:02}.{:03}Z",
         t.year,
@@ -221,7 +226,7 @@ impl Sequence {
     /// order), and its elapsed scene seconds.
     pub fn scene(&self, index: u32) -> Result<(Scene, f64), SequenceError> {
         let elapsed_s = f64::from(index) * self.step_s;
-        let utc = instant_after(&self.start, elapsed_s / SECONDS_PER_DAY).to_utc();
+        let utc = instant_after(&self.start, elapsed_s / SECONDS_PER_DAY + HALF_MS_DAYS).to_utc();
         let mut scene = self.base.clone();
         scene.time.utc = rfc3339_ms(&utc);
         scene.time.day_fraction = None;
@@ -325,6 +330,27 @@ mod tests {
             );
         }
         assert!(frames[0].previous.is_none());
+    }
+
+    /// Whole steps land on whole clock readings: half-hour steps read
+    /// :00.000 and :30.000 (not 04:59:59.999 from the f64 Julian day's
+    /// rounding), also across midnight and backwards.
+    #[test]
+    fn frame_instants_round_to_the_millisecond() {
+        for (start, step) in [
+            ("2024-06-21T04:00:00Z", 1800.0),
+            ("2024-06-21T00:00:00Z", 1800.0),
+            ("2024-06-22T12:00:00Z", -1800.0),
+        ] {
+            let seq = Sequence::new(base(start, 1.0), 48, step, None).unwrap();
+            for k in 0..48 {
+                let utc = seq.scene(k).unwrap().0.time.utc;
+                assert!(
+                    utc.ends_with(":00:00.000Z") || utc.ends_with(":30:00.000Z"),
+                    "{start} frame {k}: {utc}"
+                );
+            }
+        }
     }
 
     #[test]
