@@ -141,7 +141,7 @@ fn print(format: Format, doc: &Value, table: impl FnOnce() -> String) -> Result<
         Format::Table => table(),
     };
     let mut out = std::io::stdout().lock();
-    writeln!(out, "{text}").map_err(|e| CliError::other(format!("writing stdout: {e}")))
+    writeln!(out, "{text}").map_err(CliError::stdout)
 }
 
 fn precision(s: &str) -> Result<Tiered, CliError> {

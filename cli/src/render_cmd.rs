@@ -670,12 +670,13 @@ fn make_world_renderer(
 /// `himmel scene-template [--world]`: prints the complete default scene
 /// (with `--world`, also the world, camera placement, fog and lighting keys).
 pub fn template(a: &TemplateArgs) -> Result<(), CliError> {
-    if a.world {
-        println!("{}", Scene::template_world_json());
+    use std::io::Write;
+    let text = if a.world {
+        Scene::template_world_json()
     } else {
-        println!("{}", Scene::template_json());
-    }
-    Ok(())
+        Scene::template_json()
+    };
+    writeln!(std::io::stdout().lock(), "{text}").map_err(CliError::stdout)
 }
 
 /// A directional light's `--stats` fields (zero when it does not light).

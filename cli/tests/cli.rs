@@ -327,6 +327,40 @@ fn stars_json_contract_and_errors() {
 }
 
 #[test]
+fn a_reader_gone_before_the_output_ends_the_program_quietly() {
+    // `himmel scene-template | head -1` and the like: the read end is
+    // closed before the child writes (the child takes milliseconds to start),
+    // so its write meets a closed pipe: success, nothing on stderr, no panic.
+    for args in [
+        &["scene-template", "--world"][..],
+        &[
+            "eclipses",
+            "--kind",
+            "solar",
+            "--from",
+            "2000-01-01",
+            "--to",
+            "2200-01-01",
+        ][..],
+    ] {
+        let mut child = Command::new(env!("CARGO_BIN_EXE_himmel"))
+            .args(args)
+            .stdout(Stdio::piped())
+            .stderr(Stdio::piped())
+            .spawn()
+            .unwrap();
+        drop(child.stdout.take());
+        let out = child.wait_with_output().unwrap();
+        assert!(out.status.success(), "{args:?}: {:?}", out.status);
+        assert!(
+            out.stderr.is_empty(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+    }
+}
+
+#[test]
 fn a_reader_that_stops_early_ends_the_program_quietly() {
     // `himmel stars … | head -1`: the closed pipe is not an error.
     use std::io::{BufRead, BufReader};
