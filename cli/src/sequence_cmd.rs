@@ -116,10 +116,19 @@ fn progress(total: u64) -> indicatif::ProgressBar {
     bar
 }
 
+/// Sky-view LUT of the metering preview: a quarter of the default's
+/// 192 × 108 texels each way (the precomputed LUTs are the frames' own,
+/// `LutConfig::same_tables`). The sky view is most of a preview's cost;
+/// at this size it is 16× cheaper.
+const PREVIEW_SKY_VIEW: (usize, usize) = (48, 27);
+
 /// The metering preview of `scene`: the same camera at most
-/// [`PREVIEW_SIDE`] pixels on its longer side.
+/// [`PREVIEW_SIDE`] pixels on its longer side, with a sky-view LUT of
+/// [`PREVIEW_SKY_VIEW`] texels (never larger than the frame's).
 fn preview(scene: &Scene) -> Scene {
     let mut s = scene.clone();
+    s.lut.sky_view_w = s.lut.sky_view_w.min(PREVIEW_SKY_VIEW.0);
+    s.lut.sky_view_h = s.lut.sky_view_h.min(PREVIEW_SKY_VIEW.1);
     let c = &mut s.camera;
     let side = match c.projection {
         Projection::Cubemap => c.height.saturating_mul(6),
@@ -308,5 +317,6 @@ mod tests {
         s.camera.width = 32;
         s.camera.height = 32;
         assert_eq!(preview(&s).camera, s.camera);
+        assert_eq!((p.lut.sky_view_w, p.lut.sky_view_h), PREVIEW_SKY_VIEW);
     }
 }
