@@ -8,6 +8,7 @@ use himmel_cpu::output::{self, Format as ImageFormat};
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::camera::{CameraSettings, Exposure};
 use himmel_skymodel::file::write_bytes;
+use himmel_skymodel::overlay::OverlayGeometry;
 use himmel_skymodel::scene::parse_effects;
 use himmel_skymodel::{Projection, RenderError, RenderOutput, Scene, SkyRenderer, SkyState};
 use serde_json::json;
@@ -118,6 +119,11 @@ pub struct RenderArgs {
     /// between keyframes, held outside them.
     #[arg(long, value_name = "FILE")]
     pub(crate) camera_path: Option<PathBuf>,
+    /// Chart overlay drawn into a PNG (never an EXR): comma list of
+    /// constellations (the figures), labels (constellation, bright-star and
+    /// planet names), or none; style from the scene's `overlay` key.
+    #[arg(long, value_name = "LIST")]
+    overlay: Option<String>,
 }
 
 #[derive(Args, Debug)]
@@ -285,6 +291,12 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
             ))
         })?;
     }
+    if let Some(list) = &a.overlay {
+        scene
+            .overlay
+            .set_parts(list)
+            .map_err(|e| CliError::input(format!("--overlay: {e}")))?;
+    }
     if let Some(v) = a.sun_scale {
         scene.sun_scale = finite("--sun-scale", v)?;
     }
@@ -382,6 +394,9 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let scene = build_scene(a)?;
+    if scene.overlay.is_on() && format == ImageFormat::Exr {
+        eprintln!("note: the overlay is drawn into PNG images only; the EXR keeps the radiance");
+    }
     let sequence = crate::sequence_cmd::SequenceArgs::of(a)?;
     let t_world = Clock::now();
     let world = load_world(a, &scene)?;
@@ -526,8 +541,20 @@ pub(crate) fn render_frame(
                 night_vision: scene.night_vision,
                 dither: scene.dither,
             };
+            let overlay = if scene.overlay.is_on() {
+                let g = OverlayGeometry::build(scene, state)
+                    .map_err(|e| CliError::other(format!("overlay: {e}")))?;
+                Some(g)
+            } else {
+                None
+            };
+            let (w, h) = (out.image.width, out.image.height);
+            let draw = |rgb8: &mut [u8]| match &overlay {
+                Some(g) => himmel_cpu::overlay::draw(rgb8, w, h, g, &scene.overlay),
+                None => Ok(()),
+            };
             Some(
-                output::write_png(output, &out.image, &settings)
+                output::write_png_overlaid(output, &out.image, &settings, draw)
                     .map_err(|e| write_error("--output", e))?,
             )
         }
