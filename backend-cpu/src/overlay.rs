@@ -228,6 +228,7 @@ mod tests {
         let (w, h) = (32, 16);
         let mut img = vec![0u8; w * h * 3];
         let g = OverlayGeometry {
+            vertices: vec![],
             lines: vec![vec![[4.0, 8.5], [28.0, 8.5]]],
             labels: vec![],
         };
@@ -250,12 +251,14 @@ mod tests {
         let (w, h) = (16, 16);
         let mut img = vec![0u8; w * h * 3];
         let far = OverlayGeometry {
+            vertices: vec![],
             lines: vec![vec![[-1e9, -1e9], [-1e9, 1e9]]],
             labels: vec![],
         };
         draw(&mut img, w, h, &far, &spec()).unwrap();
         assert!(img.iter().all(|&v| v == 0));
         let across = OverlayGeometry {
+            vertices: vec![],
             lines: vec![vec![[-1e9, 8.5], [1e9, 8.5]]],
             labels: vec![],
         };
@@ -269,6 +272,7 @@ mod tests {
         let (w, h) = (96, 32);
         let mut img = vec![0u8; w * h * 3];
         let g = OverlayGeometry {
+            vertices: vec![],
             lines: vec![],
             labels: vec![himmel_skymodel::overlay::Label {
                 text: "Orion".into(),

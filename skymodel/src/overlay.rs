@@ -78,6 +78,8 @@ pub struct OverlayGeometry {
     /// Polylines (continuous image positions, px); each is continuous in
     /// the image and may leave it.
     pub lines: Vec<Vec<[f64; 2]>>,
+    /// The figures' shown vertices (their stars, where lines end), px.
+    pub vertices: Vec<[f64; 2]>,
     /// Labels whose anchors lie inside the image.
     pub labels: Vec<Label>,
 }
@@ -150,6 +152,8 @@ impl OverlayGeometry {
                         tracer.edge(frame.enu(&pair[0]), frame.enu(&pair[1]));
                     }
                     tracer.finish_line();
+                    let shown = line.iter().filter_map(|v| tracer.land(frame.enu(v)));
+                    out.vertices.extend(shown.map(|l| l.px));
                 }
             }
             out.lines = tracer.lines;
