@@ -514,6 +514,8 @@ pub(crate) struct WrittenFrame {
     pub write_ms: f64,
     /// The EV100 of a PNG's camera stage (none for an EXR).
     pub ev100: Option<f64>,
+    /// The chart overlay (geometry and drawing; part of `write_ms`), ms.
+    pub overlay_ms: f64,
 }
 
 /// Renders one frame of `scene` at `state` and writes it to `output`: the
@@ -530,6 +532,7 @@ pub(crate) fn render_frame(
     let out = renderer.render(scene, state)?;
     let render_ms = t_render.elapsed().as_secs_f64() * 1e3;
     let t_write = Clock::now();
+    let overlay_ms = std::cell::Cell::new(0.0);
     let ev100 = match format {
         ImageFormat::Exr => {
             output::write_exr(output, &out.image).map_err(|e| write_error("--output", e))?;
@@ -541,6 +544,7 @@ pub(crate) fn render_frame(
                 night_vision: scene.night_vision,
                 dither: scene.dither,
             };
+            let t_overlay = Clock::now();
             let overlay = if scene.overlay.is_on() {
                 let g = OverlayGeometry::build(scene, state)
                     .map_err(|e| CliError::other(format!("overlay: {e}")))?;
@@ -548,10 +552,16 @@ pub(crate) fn render_frame(
             } else {
                 None
             };
+            let geometry_ms = t_overlay.elapsed().as_secs_f64() * 1e3;
             let (w, h) = (out.image.width, out.image.height);
-            let draw = |rgb8: &mut [u8]| match &overlay {
-                Some(g) => himmel_cpu::overlay::draw(rgb8, w, h, g, &scene.overlay),
-                None => Ok(()),
+            let draw = |rgb8: &mut [u8]| {
+                let t = Clock::now();
+                let r = match &overlay {
+                    Some(g) => himmel_cpu::overlay::draw(rgb8, w, h, g, &scene.overlay),
+                    None => Ok(()),
+                };
+                overlay_ms.set(geometry_ms + t.elapsed().as_secs_f64() * 1e3);
+                r
             };
             Some(
                 output::write_png_overlaid(output, &out.image, &settings, draw)
@@ -564,6 +574,7 @@ pub(crate) fn render_frame(
         render_ms,
         write_ms: t_write.elapsed().as_secs_f64() * 1e3,
         ev100,
+        overlay_ms: overlay_ms.get(),
     })
 }
 
@@ -590,6 +601,7 @@ pub(crate) fn frame_stats(
         "geometry_ms": out.geometry_ms,
         "sky_view_ms": out.sky_view_ms,
         "write_ms": frame.write_ms,
+        "overlay_ms": frame.overlay_ms,
         "ev100": frame.ev100,
         "time_utc": format_utc(&state.utc),
         "sun": {

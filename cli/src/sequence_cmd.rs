@@ -252,6 +252,13 @@ impl SequenceRun<'_> {
                 "lut_source": w.out.lut_source,
                 "sky_view_ms": w.out.sky_view_ms,
                 "passes": passes,
+                "non_finite_pixels": w
+                    .out
+                    .image
+                    .pixels
+                    .iter()
+                    .filter(|p| !p.iter().all(|c| c.is_finite()))
+                    .count(),
                 "ev100": w.ev100,
                 "ev100_metered": w.ev100.map(|_| meter_ev100(&w.out.image.pixels, &w.out.image.valid)),
                 "camera": {
