@@ -8,7 +8,8 @@
 //!   needs them).
 //! * The renderer (device, LUTs, pipelines) is built once; every frame goes
 //!   through [`render_frame`], the single-frame path's own function.
-//! * Automatic exposure of a PNG sequence: a small preview of every frame is
+//! * Automatic exposure of a PNG sequence: a small preview of every frame
+//!   (64 px, a 48 × 27 sky view on the frames' own precomputed LUTs) is
 //!   metered first, then the exposure curve changes by at most
 //!   `exposure_max_step_ev` per frame
 //!   (`himmel_skymodel::sequence::exposure::smooth_ev100`).
