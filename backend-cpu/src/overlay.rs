@@ -28,11 +28,12 @@ const FONT: &[u8] = include_bytes!("../data/DejaVuSans.ttf");
 /// bounding box small for long diagonal segments).
 const PIECE_PX: f64 = 16.0;
 
-/// A coverage mask over the image, 0–1 per pixel.
+/// A coverage mask over the image, 0–255 per pixel (one byte: the 8-bit
+/// image needs no finer steps, and a 64 Mpx frame's mask stays 64 MB).
 struct Mask {
     width: usize,
     height: usize,
-    cover: Vec<f32>,
+    cover: Vec<u8>,
 }
 
 impl Mask {
@@ -41,7 +42,7 @@ impl Mask {
             return;
         }
         let m = &mut self.cover[y as usize * self.width + x as usize];
-        *m = m.max(c.clamp(0.0, 1.0));
+        *m = (*m).max((c.clamp(0.0, 1.0) * 255.0).round() as u8);
     }
 
     /// The segment from `a` to `b` (continuous image positions) with
@@ -175,7 +176,7 @@ pub fn draw(
     let mut mask = Mask {
         width,
         height,
-        cover: vec![0.0; width * height],
+        cover: vec![0; width * height],
     };
     let hw = spec.line_width / 2.0;
     for line in &geometry.lines {
@@ -199,7 +200,8 @@ pub fn draw(
     }
     let colour = spec.colour.map(|c| (c * 255.0) as f32);
     for (px, &c) in rgb8.chunks_exact_mut(3).zip(&mask.cover) {
-        if c > 0.0 {
+        if c > 0 {
+            let c = f32::from(c) / 255.0;
             for k in 0..3 {
                 let v = px[k] as f32;
                 px[k] = (v + (colour[k] - v) * c).round().clamp(0.0, 255.0) as u8;
