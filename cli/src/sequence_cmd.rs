@@ -124,12 +124,18 @@ fn progress(total: u64) -> indicatif::ProgressBar {
 const PREVIEW_SKY_VIEW: (usize, usize) = (48, 27);
 
 /// The metering preview of `scene`: the same camera at most
-/// [`PREVIEW_SIDE`] pixels on its longer side, with a sky-view LUT of
-/// [`PREVIEW_SKY_VIEW`] texels (never larger than the frame's).
-fn preview(scene: &Scene) -> Scene {
+/// [`PREVIEW_SIDE`] pixels on its longer side; with `small_sky_view`, a
+/// sky-view LUT of [`PREVIEW_SKY_VIEW`] texels (never larger than the
+/// frame's). The small sky view is for the CPU backend, whose sky view is
+/// a preview's main cost; the wgpu backend computes the sky view in its
+/// shaders and keys its GPU LUTs by the whole configuration, so there the
+/// preview keeps the frame's.
+fn preview(scene: &Scene, small_sky_view: bool) -> Scene {
     let mut s = scene.clone();
-    s.lut.sky_view_w = s.lut.sky_view_w.min(PREVIEW_SKY_VIEW.0);
-    s.lut.sky_view_h = s.lut.sky_view_h.min(PREVIEW_SKY_VIEW.1);
+    if small_sky_view {
+        s.lut.sky_view_w = s.lut.sky_view_w.min(PREVIEW_SKY_VIEW.0);
+        s.lut.sky_view_h = s.lut.sky_view_h.min(PREVIEW_SKY_VIEW.1);
+    }
     let c = &mut s.camera;
     let side = match c.projection {
         Projection::Cubemap => c.height.saturating_mul(6),
@@ -212,7 +218,8 @@ impl SequenceRun<'_> {
             bar.set_message("metering");
             for k in 0..n {
                 let f = seq.frame(k).map_err(|e| self.error(e))?;
-                let out = renderer.render(&preview(&f.scene), &f.state)?;
+                let small = renderer.name() == "cpu";
+                let out = renderer.render(&preview(&f.scene, small), &f.state)?;
                 preview_lut_source.get_or_insert(out.lut_source);
                 metered_preview.push(meter_ev100(&out.image.pixels, &out.image.valid));
                 bar.inc(1);
@@ -320,11 +327,12 @@ mod tests {
         let mut s = Scene::default();
         s.camera.width = 1920;
         s.camera.height = 1080;
-        let p = preview(&s);
+        let p = preview(&s, true);
         assert_eq!((p.camera.width, p.camera.height), (64, 36));
         s.camera.width = 32;
         s.camera.height = 32;
-        assert_eq!(preview(&s).camera, s.camera);
+        assert_eq!(preview(&s, true).camera, s.camera);
+        assert_eq!(preview(&s, false).lut, s.lut);
         assert_eq!((p.lut.sky_view_w, p.lut.sky_view_h), PREVIEW_SKY_VIEW);
     }
 }
