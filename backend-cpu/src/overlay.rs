@@ -15,7 +15,9 @@
 //!   see `backend-cpu/README.md`) through `ab_glyph`, which gives each
 //!   glyph's outline coverage per pixel; kerning from the font.
 //!   Constellation names are centred on their anchor, star and planet
-//!   names start beside theirs.
+//!   names start beside theirs; a label that would overlap one placed
+//!   before it (planets, then stars from the brightest, then
+//!   constellations) moves one line down, or is left out.
 
 use ab_glyph::{Font, FontRef, PxScale, ScaleFont};
 use himmel_skymodel::overlay::{LabelKind, OverlayGeometry};
@@ -126,6 +128,42 @@ fn text_width(font: &FontRef<'_>, text: &str, px: f32) -> f32 {
     w
 }
 
+/// Where the labels go (text, baseline-left x, y), planets first, then
+/// stars (brightest first, the catalogue's order), then constellations:
+/// each at its own place, else one line lower, else left out, so that no
+/// two labels' boxes overlap.
+fn place_labels<'a>(
+    font: &FontRef<'_>,
+    geometry: &'a OverlayGeometry,
+    px: f32,
+) -> Vec<(&'a str, f32, f32)> {
+    let mut placed: Vec<[f32; 4]> = Vec::new();
+    let mut out = Vec::new();
+    for kind in [LabelKind::Planet, LabelKind::Star, LabelKind::Constellation] {
+        for l in geometry.labels.iter().filter(|l| l.kind == kind) {
+            let width = text_width(font, &l.text, px);
+            let (x, y) = (l.pos[0] as f32, l.pos[1] as f32);
+            let (x, y) = match kind {
+                LabelKind::Constellation => (x - width / 2.0, y + px / 3.0),
+                LabelKind::Star | LabelKind::Planet => (x + px / 2.0, y - px / 4.0),
+            };
+            for y in [y, y + 1.1 * px] {
+                // The box from the ascenders to the descenders.
+                let b = [x, y - 0.8 * px, x + width, y + 0.25 * px];
+                let free = placed
+                    .iter()
+                    .all(|p| b[2] <= p[0] || p[2] <= b[0] || b[3] <= p[1] || p[3] <= b[1]);
+                if free {
+                    placed.push(b);
+                    out.push((l.text.as_str(), x, y));
+                    break;
+                }
+            }
+        }
+    }
+    out
+}
+
 /// The part of segment a–b inside the image grown by `margin` px
 /// (Liang–Barsky), or `None` when it misses it.
 fn clip(a: [f64; 2], b: [f64; 2], w: f64, h: f64, margin: f64) -> Option<([f64; 2], [f64; 2])> {
@@ -186,16 +224,8 @@ pub fn draw(
     }
     if !geometry.labels.is_empty() {
         let font = FontRef::try_from_slice(FONT).map_err(|e| format!("overlay font: {e}"))?;
-        let px = spec.label_px as f32;
-        for l in &geometry.labels {
-            let (x, y) = (l.pos[0] as f32, l.pos[1] as f32);
-            let (x, y) = match l.kind {
-                LabelKind::Constellation => {
-                    (x - text_width(&font, &l.text, px) / 2.0, y + px / 3.0)
-                }
-                LabelKind::Star | LabelKind::Planet => (x + px / 2.0, y - px / 4.0),
-            };
-            mask.text(&font, &l.text, x, y, px);
+        for (text, x, y) in place_labels(&font, geometry, spec.label_px as f32) {
+            mask.text(&font, text, x, y, spec.label_px as f32);
         }
     }
     let colour = spec.colour.map(|c| (c * 255.0) as f32);
@@ -300,5 +330,42 @@ mod tests {
             "{mx} {my}"
         );
         assert!(draw(&mut img[..10], w, h, &g, &spec()).is_err());
+    }
+
+    /// Labels never overlap: a star's name over a constellation's moves
+    /// the constellation's one line down; a third at the same place is
+    /// left out.
+    #[test]
+    fn labels_make_room_for_each_other() {
+        let font = FontRef::try_from_slice(FONT).unwrap();
+        let label = |text: &str, kind| himmel_skymodel::overlay::Label {
+            text: text.into(),
+            pos: [40.0, 40.0],
+            kind,
+        };
+        let g = OverlayGeometry {
+            vertices: vec![],
+            lines: vec![],
+            labels: vec![
+                label("Orion", LabelKind::Constellation),
+                label("Betelgeuse", LabelKind::Star),
+                label("Rigel", LabelKind::Star),
+            ],
+        };
+        let placed = place_labels(&font, &g, 13.0);
+        let names: Vec<&str> = placed.iter().map(|p| p.0).collect();
+        assert_eq!(names, ["Betelgeuse", "Rigel"]);
+        assert!((placed[1].2 - placed[0].2 - 1.1 * 13.0).abs() < 1e-4);
+        let apart = OverlayGeometry {
+            labels: vec![
+                label("Orion", LabelKind::Constellation),
+                himmel_skymodel::overlay::Label {
+                    pos: [40.0, 90.0],
+                    ..label("Rigel", LabelKind::Star)
+                },
+            ],
+            ..g
+        };
+        assert_eq!(place_labels(&font, &apart, 13.0).len(), 2);
     }
 }
