@@ -29,6 +29,10 @@ common=(--lat 48.14 --lon 11.58 --width 320 --height 320 --projection fisheye)
 # Night: stars, planets, Milky Way (Munich, 15 January 2024, 22:00 local time), fixed exposure.
 "$himmel" render --time 2024-01-15T21:00:00Z --lat 48.14 --lon 11.58 --width 480 --height 480 \
   --effects stars,planets,milkyway,atmosphere --exposure -6 --output "$out/night.png"
+# The same sky with the chart overlay (figures, constellation, star and planet names).
+"$himmel" render --time 2024-01-15T21:00:00Z --lat 48.14 --lon 11.58 --width 480 --height 480 \
+  --effects stars,planets,milkyway,atmosphere --exposure -6 --overlay constellations,labels \
+  --output "$out/night-overlay.png"
 ls -l "$out"
 
 # 3D worlds (wgpu; lavapipe without a GPU): the sun room at noon and in a

@@ -7,11 +7,13 @@
 //!   per-pixel directions, then each planned pass back to front;
 //! * [`sun_pass`], [`moon_pass`], [`night_pass`] — the passes that are more
 //!   than a per-pixel lookup;
-//! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files.
+//! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files;
+//! * [`overlay`] — the constellation figures and labels drawn into a PNG.
 
 pub mod moon_pass;
 pub mod night_pass;
 pub mod output;
+pub mod overlay;
 pub mod sun_pass;
 
 use std::path::PathBuf;

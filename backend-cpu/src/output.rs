@@ -100,6 +100,17 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
 /// Develops with the camera model and writes a PNG through [`write_file`];
 /// returns the EV100 used.
 pub fn write_png(path: &Path, img: &HdrImage, settings: &CameraSettings) -> Result<f64, String> {
+    write_png_overlaid(path, img, settings, |_| Ok(()))
+}
+
+/// [`write_png`] with `overlay` drawing into the developed 8-bit image
+/// (RGB rows, top to bottom) before it is encoded ([`crate::overlay`]).
+pub fn write_png_overlaid(
+    path: &Path,
+    img: &HdrImage,
+    settings: &CameraSettings,
+    overlay: impl FnOnce(&mut [u8]) -> Result<(), String>,
+) -> Result<f64, String> {
     // The camera model of himmel_skymodel::camera::develop, rows in parallel.
     let ev = exposure_ev100(&img.pixels, &img.valid, settings);
     let k = exposure_scale(ev);
@@ -120,8 +131,9 @@ pub fn write_png(path: &Path, img: &HdrImage, settings: &CameraSettings) -> Resu
         }
     });
     let rgb8 = rgb8
-        .get(..img.width * img.height * 3)
+        .get_mut(..img.width * img.height * 3)
         .ok_or_else(|| format!("{}: image buffer size mismatch", path.display()))?;
+    overlay(rgb8)?;
     write_file(path, |w| {
         encode_png(w, img.width as u32, img.height as u32, rgb8)
     })

@@ -24,6 +24,7 @@
 
 mod binary;
 pub mod color;
+pub mod constellations;
 mod error;
 pub mod field;
 pub mod figures;

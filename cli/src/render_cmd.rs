@@ -8,6 +8,7 @@ use himmel_cpu::output::{self, Format as ImageFormat};
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::camera::{CameraSettings, Exposure};
 use himmel_skymodel::file::write_bytes;
+use himmel_skymodel::overlay::OverlayGeometry;
 use himmel_skymodel::scene::parse_effects;
 use himmel_skymodel::{Projection, RenderError, RenderOutput, Scene, SkyRenderer, SkyState};
 use serde_json::json;
@@ -118,6 +119,11 @@ pub struct RenderArgs {
     /// between keyframes, held outside them.
     #[arg(long, value_name = "FILE")]
     pub(crate) camera_path: Option<PathBuf>,
+    /// Chart overlay drawn into a PNG (never an EXR): comma list of
+    /// constellations (the figures), labels (constellation, bright-star and
+    /// planet names), or none; style from the scene's `overlay` key.
+    #[arg(long, value_name = "LIST")]
+    overlay: Option<String>,
 }
 
 #[derive(Args, Debug)]
@@ -285,6 +291,12 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
             ))
         })?;
     }
+    if let Some(list) = &a.overlay {
+        scene
+            .overlay
+            .set_parts(list)
+            .map_err(|e| CliError::input(format!("--overlay: {e}")))?;
+    }
     if let Some(v) = a.sun_scale {
         scene.sun_scale = finite("--sun-scale", v)?;
     }
@@ -382,6 +394,9 @@ pub fn run(a: &RenderArgs) -> Result<(), CliError> {
         )));
     }
     let scene = build_scene(a)?;
+    if scene.overlay.is_on() && format == ImageFormat::Exr {
+        eprintln!("note: the overlay is drawn into PNG images only; the EXR keeps the radiance");
+    }
     let sequence = crate::sequence_cmd::SequenceArgs::of(a)?;
     let t_world = Clock::now();
     let world = load_world(a, &scene)?;
@@ -499,6 +514,8 @@ pub(crate) struct WrittenFrame {
     pub write_ms: f64,
     /// The EV100 of a PNG's camera stage (none for an EXR).
     pub ev100: Option<f64>,
+    /// The chart overlay (geometry and drawing; part of `write_ms`), ms.
+    pub overlay_ms: f64,
 }
 
 /// Renders one frame of `scene` at `state` and writes it to `output`: the
@@ -515,6 +532,7 @@ pub(crate) fn render_frame(
     let out = renderer.render(scene, state)?;
     let render_ms = t_render.elapsed().as_secs_f64() * 1e3;
     let t_write = Clock::now();
+    let overlay_ms = std::cell::Cell::new(0.0);
     let ev100 = match format {
         ImageFormat::Exr => {
             output::write_exr(output, &out.image).map_err(|e| write_error("--output", e))?;
@@ -526,8 +544,27 @@ pub(crate) fn render_frame(
                 night_vision: scene.night_vision,
                 dither: scene.dither,
             };
+            let t_overlay = Clock::now();
+            let overlay = if scene.overlay.is_on() {
+                let g = OverlayGeometry::build(scene, state)
+                    .map_err(|e| CliError::other(format!("overlay: {e}")))?;
+                Some(g)
+            } else {
+                None
+            };
+            let geometry_ms = t_overlay.elapsed().as_secs_f64() * 1e3;
+            let (w, h) = (out.image.width, out.image.height);
+            let draw = |rgb8: &mut [u8]| {
+                let t = Clock::now();
+                let r = match &overlay {
+                    Some(g) => himmel_cpu::overlay::draw(rgb8, w, h, g, &scene.overlay),
+                    None => Ok(()),
+                };
+                overlay_ms.set(geometry_ms + t.elapsed().as_secs_f64() * 1e3);
+                r
+            };
             Some(
-                output::write_png(output, &out.image, &settings)
+                output::write_png_overlaid(output, &out.image, &settings, draw)
                     .map_err(|e| write_error("--output", e))?,
             )
         }
@@ -537,6 +574,7 @@ pub(crate) fn render_frame(
         render_ms,
         write_ms: t_write.elapsed().as_secs_f64() * 1e3,
         ev100,
+        overlay_ms: overlay_ms.get(),
     })
 }
 
@@ -563,6 +601,7 @@ pub(crate) fn frame_stats(
         "geometry_ms": out.geometry_ms,
         "sky_view_ms": out.sky_view_ms,
         "write_ms": frame.write_ms,
+        "overlay_ms": frame.overlay_ms,
         "ev100": frame.ev100,
         "time_utc": format_utc(&state.utc),
         "sun": {

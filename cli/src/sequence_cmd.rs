@@ -8,7 +8,8 @@
 //!   needs them).
 //! * The renderer (device, LUTs, pipelines) is built once; every frame goes
 //!   through [`render_frame`], the single-frame path's own function.
-//! * Automatic exposure of a PNG sequence: a small preview of every frame is
+//! * Automatic exposure of a PNG sequence: a small preview of every frame
+//!   (64 px, a 48 × 27 sky view on the frames' own precomputed LUTs) is
 //!   metered first, then the exposure curve changes by at most
 //!   `exposure_max_step_ev` per frame
 //!   (`himmel_skymodel::sequence::exposure::smooth_ev100`).
@@ -116,10 +117,25 @@ fn progress(total: u64) -> indicatif::ProgressBar {
     bar
 }
 
+/// Sky-view LUT of the metering preview: a quarter of the default's
+/// 192 × 108 texels each way (the precomputed LUTs are the frames' own,
+/// `LutConfig::same_tables`). The sky view is most of a preview's cost;
+/// at this size it is 16× cheaper.
+const PREVIEW_SKY_VIEW: (usize, usize) = (48, 27);
+
 /// The metering preview of `scene`: the same camera at most
-/// [`PREVIEW_SIDE`] pixels on its longer side.
-fn preview(scene: &Scene) -> Scene {
+/// [`PREVIEW_SIDE`] pixels on its longer side; with `small_sky_view`, a
+/// sky-view LUT of [`PREVIEW_SKY_VIEW`] texels (never larger than the
+/// frame's). The small sky view is for the CPU backend, whose sky view is
+/// a preview's main cost; the wgpu backend computes the sky view in its
+/// shaders and keys its GPU LUTs by the whole configuration, so there the
+/// preview keeps the frame's.
+fn preview(scene: &Scene, small_sky_view: bool) -> Scene {
     let mut s = scene.clone();
+    if small_sky_view {
+        s.lut.sky_view_w = s.lut.sky_view_w.min(PREVIEW_SKY_VIEW.0);
+        s.lut.sky_view_h = s.lut.sky_view_h.min(PREVIEW_SKY_VIEW.1);
+    }
     let c = &mut s.camera;
     let side = match c.projection {
         Projection::Cubemap => c.height.saturating_mul(6),
@@ -202,7 +218,8 @@ impl SequenceRun<'_> {
             bar.set_message("metering");
             for k in 0..n {
                 let f = seq.frame(k).map_err(|e| self.error(e))?;
-                let out = renderer.render(&preview(&f.scene), &f.state)?;
+                let small = renderer.name() == "cpu";
+                let out = renderer.render(&preview(&f.scene, small), &f.state)?;
                 preview_lut_source.get_or_insert(out.lut_source);
                 metered_preview.push(meter_ev100(&out.image.pixels, &out.image.valid));
                 bar.inc(1);
@@ -243,6 +260,13 @@ impl SequenceRun<'_> {
                 "lut_source": w.out.lut_source,
                 "sky_view_ms": w.out.sky_view_ms,
                 "passes": passes,
+                "non_finite_pixels": w
+                    .out
+                    .image
+                    .pixels
+                    .iter()
+                    .filter(|p| !p.iter().all(|c| c.is_finite()))
+                    .count(),
                 "ev100": w.ev100,
                 "ev100_metered": w.ev100.map(|_| meter_ev100(&w.out.image.pixels, &w.out.image.valid)),
                 "camera": {
@@ -303,10 +327,12 @@ mod tests {
         let mut s = Scene::default();
         s.camera.width = 1920;
         s.camera.height = 1080;
-        let p = preview(&s);
+        let p = preview(&s, true);
         assert_eq!((p.camera.width, p.camera.height), (64, 36));
         s.camera.width = 32;
         s.camera.height = 32;
-        assert_eq!(preview(&s).camera, s.camera);
+        assert_eq!(preview(&s, true).camera, s.camera);
+        assert_eq!(preview(&s, false).lut, s.lut);
+        assert_eq!((p.lut.sky_view_w, p.lut.sky_view_h), PREVIEW_SKY_VIEW);
     }
 }

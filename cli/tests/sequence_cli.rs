@@ -157,6 +157,10 @@ fn day_long_time_lapse_has_no_exposure_jumps() {
     for w in ev.windows(2) {
         assert!((w[1] - w[0]).abs() <= 0.3, "{} → {}", w[0], w[1]);
     }
+    // Every frame's radiance is finite (night, twilight and day alike).
+    for f in frames {
+        assert_eq!(f["non_finite_pixels"], 0, "{}", f["time_utc"]);
+    }
     // At noon (frame 24) the exposure has reached the day's meter.
     assert!(
         (ev[24] - metered[24]).abs() < 1.0,

@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
+pub use crate::overlay_spec::OverlaySpec;
 use crate::projection::Camera;
 pub use crate::scene_error::SceneError;
 use crate::units::show;
@@ -275,6 +276,9 @@ pub struct Scene {
     /// The lighting passes' settings (ranges in [`LightingSpec`]).
     #[serde(skip_serializing_if = "is_default_lighting")]
     pub lighting: LightingSpec,
+    /// Constellation figures and labels over the PNG (ranges in
+    /// [`OverlaySpec`]; default off).
+    pub overlay: OverlaySpec,
 }
 
 fn is_default_lighting(l: &LightingSpec) -> bool {
@@ -301,6 +305,7 @@ impl Default for Scene {
             world: None,
             fog: None,
             lighting: LightingSpec::default(),
+            overlay: OverlaySpec::default(),
         }
     }
 }
@@ -431,6 +436,7 @@ impl Scene {
             .map_err(|e| SceneError::new(&e.field, e.expected))?;
         crate::world_spec::validate_fog(&self.fog)?;
         self.lighting.validate()?;
+        self.overlay.validate()?;
         if self.world.is_some() && self.camera.projection != crate::Projection::Perspective {
             return Err(SceneError::new(
                 "camera.projection",

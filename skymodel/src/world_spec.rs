@@ -247,7 +247,7 @@ pub fn validate_fog(fog: &Option<FogSpec>) -> Result<(), SceneError> {
     fog.as_ref().map_or(Ok(()), FogSpec::validate)
 }
 
-fn range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
+pub(crate) fn range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {

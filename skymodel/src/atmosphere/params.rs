@@ -197,6 +197,20 @@ impl Default for LutConfig {
 }
 
 impl LutConfig {
+    /// Whether `self` and `other` describe the same precomputed tables
+    /// (transmittance, multiple scattering): they may differ only in the
+    /// per-frame sky view (`sky_view_w`, `sky_view_h`, `sky_view_steps`),
+    /// which no precomputed table reads.
+    pub fn same_tables(&self, other: &LutConfig) -> bool {
+        let tables = |c: &LutConfig| LutConfig {
+            sky_view_w: 0,
+            sky_view_h: 0,
+            sky_view_steps: 0,
+            ..*c
+        };
+        tables(self) == tables(other)
+    }
+
     /// A small configuration for fast tests.
     pub fn small() -> Self {
         LutConfig {

@@ -164,6 +164,15 @@ impl LutStore {
             if l.params == *params && l.config == *config {
                 return (l.clone(), LutOrigin::Memory);
             }
+            if l.params == *params && l.config.same_tables(config) {
+                // Only the per-frame sky view differs (a sequence's small
+                // metering previews): the held tables serve as they are.
+                let luts = AtmosphereLuts {
+                    config: *config,
+                    ..AtmosphereLuts::clone(l)
+                };
+                return (Arc::new(luts), LutOrigin::Memory);
+            }
         }
         #[cfg(feature = "std")]
         if let Some(l) = self.dir.as_deref().and_then(|d| load(d, params, config)) {
@@ -403,5 +412,35 @@ mod tests {
         };
         assert_eq!(s.get(&b, &config).1, LutOrigin::Computed);
         assert_eq!(LutOrigin::DiskCache.name(), "disk-cache");
+    }
+
+    /// The sky view's size and steps are no part of the precomputed
+    /// tables: another sky view is served from memory with the tables a
+    /// fresh computation for its configuration gives, bit for bit; any
+    /// other field is computed anew.
+    #[test]
+    fn another_sky_view_reuses_the_tables() {
+        let mut s = LutStore::in_memory();
+        let (a, config) = (AtmosphereParams::default(), LutConfig::small());
+        s.get(&a, &config);
+        let preview = LutConfig {
+            sky_view_w: 24,
+            sky_view_h: 14,
+            sky_view_steps: 12,
+            ..config
+        };
+        let (l, origin) = s.get(&a, &preview);
+        assert_eq!(origin, LutOrigin::Memory);
+        assert_eq!(l.config, preview);
+        let fresh = precompute(&a, &preview, None);
+        assert_eq!(l.transmittance.data, fresh.transmittance.data);
+        assert_eq!(l.multiscatter.data, fresh.multiscatter.data);
+        // The store still holds the frame's own configuration.
+        assert_eq!(s.current().map(|l| l.config), Some(config));
+        let other = LutConfig {
+            multiscatter_steps: config.multiscatter_steps + 1,
+            ..config
+        };
+        assert_eq!(s.get(&a, &other).1, LutOrigin::Computed);
     }
 }

@@ -33,9 +33,21 @@
 //! a change of ΔEV takes ΔEV/R frames. The envelope is two linear sweeps
 //! (a distance transform), so the curve costs O(N) for N frames.
 //!
+//! **What the rate cannot do.** R bounds how far the exposure travels:
+//! a 24 h lapse at 10-minute steps has a day metered at EV ≈ 15 and a
+//! night at ≈ −5 (June, 48° N, the Moon up); 20 EV take 67 frames at
+//! R = 0.3 and 80 at 0.25, but the night lasts ~30 frames and dusk drops
+//! 17 EV in 12. Every R-limited curve then errs by many EV somewhere: this
+//! one keeps the day exact and leaves the night 10–15 EV darker than its
+//! meter (black frames; measured in the README, "How far the night
+//! lags"); the curve closest to the meter in the worst frame (the mean of
+//! this upper envelope and the lower one, min_j (m_j + R·|k − j|)) would
+//! over-expose the morning by 6 EV and still leave the night ~6 EV dark.
+//! Finer time steps or a larger R are the remedies.
+//!
 //! The metered curve must be known before the frames are written: the
 //! command line meters a small preview of every frame first (the same
-//! renderer, LUTs reused).
+//! renderer and precomputed LUTs, a 48 × 27 sky view).
 
 pub use crate::scene::DEFAULT_EXPOSURE_MAX_STEP_EV;
 
