@@ -42,6 +42,7 @@ use glam::Vec3;
 use himmel_skymodel::projection::scene_from_enu;
 use himmel_skymodel::renderer::HdrImage;
 use himmel_skymodel::{Camera, Projection};
+use rayon::prelude::*;
 
 /// Roughness levels of the prefiltered maps.
 pub const SPECULAR_LEVELS: usize = 5;
@@ -188,22 +189,29 @@ impl EnvLight {
         let mut sh9 = [[0.0f32; 9]; 3];
         let mut horizontal = [0.0f64; 3];
         let mut max_radiance = 0.0f32;
-        for &(w, sa, l) in &texels {
+        // Each texel's cell and weight (the nearest-direction search, in
+        // parallel), then the sums in texel order.
+        let assigned: Vec<Option<(usize, f32)>> = texels
+            .par_iter()
+            .map(|&(w, _, _)| {
+                let up = w.y >= 0.0;
+                let body = bodies
+                    .iter()
+                    .position(|b| (b.y >= 0.0) == up && w.dot(*b) >= cos_aureole);
+                let nearest = |range: std::ops::Range<usize>| {
+                    range
+                        .filter(|&k| (cells[k].dir.y > 0.0) == up)
+                        .max_by(|&a, &b| w.dot(cells[a].dir).total_cmp(&w.dot(cells[b].dir)))
+                };
+                let first = |i: usize| regular + i * AUREOLE_DIRECTIONS;
+                body.and_then(|i| nearest(first(i)..first(i) + AUREOLE_DIRECTIONS))
+                    .map(|k| (k, 1.0))
+                    .or_else(|| nearest(0..regular).map(|k| (k, weight)))
+            })
+            .collect();
+        for (&(w, sa, l), best) in texels.iter().zip(assigned) {
             max_radiance = max_radiance.max(l[0].max(l[1]).max(l[2]));
             let up = w.y >= 0.0;
-            let body = bodies
-                .iter()
-                .position(|b| (b.y >= 0.0) == up && w.dot(*b) >= cos_aureole);
-            let nearest = |range: std::ops::Range<usize>| {
-                range
-                    .filter(|&k| (cells[k].dir.y > 0.0) == up)
-                    .max_by(|&a, &b| w.dot(cells[a].dir).total_cmp(&w.dot(cells[b].dir)))
-            };
-            let first = |i: usize| regular + i * AUREOLE_DIRECTIONS;
-            let best = body
-                .and_then(|i| nearest(first(i)..first(i) + AUREOLE_DIRECTIONS))
-                .map(|k| (k, 1.0))
-                .or_else(|| nearest(0..regular).map(|k| (k, weight)));
             if let Some((k, f)) = best {
                 let c = &mut cells[k];
                 for ch in 0..3 {
@@ -304,40 +312,41 @@ fn prefilter(texels: &[(Vec3, f32, [f32; 3])], face: usize) -> Vec<[f32; 3]> {
     let fine = reduce(texels, face, (face / 32).max(1));
     let reduced = reduce(texels, face, (face / 16).max(1));
     let (w, h) = SPECULAR_SIZE;
-    let mut out = Vec::with_capacity(SPECULAR_LEVELS * w * h);
-    for level in 0..SPECULAR_LEVELS {
-        let r = level_roughness(level).max(0.08);
-        for j in 0..h {
-            for i in 0..w {
-                let n = equirect_dir(i, j, w, h);
-                let (mut acc, mut wsum) = ([0.0f32; 3], 0.0f32);
-                let src: &[(Vec3, f32, [f32; 3])] = if level == 0 { &fine } else { &reduced };
-                for &(d, sa, l) in src {
-                    let c = n.dot(d);
-                    if c <= 0.0 {
-                        continue;
-                    }
-                    let hv = (n + d).normalize();
-                    let wgt = if level == 0 {
-                        // A narrow lobe (≈ 3°) for the mirror level.
-                        (-(1.0 - c) / 1.5e-3).exp() * sa
-                    } else {
-                        ggx_d(n.dot(hv), r) * c * sa
-                    };
-                    for ch in 0..3 {
-                        acc[ch] += l[ch] * wgt;
-                    }
-                    wsum += wgt;
+    // A lobe's weight below e⁻²⁰ of its peak is left out: the mirror
+    // level's lobe ends within 1 − cos = 0.03 (14°).
+    let mirror_cut = 1.0 - 20.0 * 1.5e-3;
+    (0..SPECULAR_LEVELS * w * h)
+        .into_par_iter()
+        .map(|idx| {
+            let (level, texel) = (idx / (w * h), idx % (w * h));
+            let r = level_roughness(level).max(0.08);
+            let n = equirect_dir(texel % w, texel / w, w, h);
+            let (mut acc, mut wsum) = ([0.0f32; 3], 0.0f32);
+            let src: &[(Vec3, f32, [f32; 3])] = if level == 0 { &fine } else { &reduced };
+            for &(d, sa, l) in src {
+                let c = n.dot(d);
+                if c <= 0.0 || (level == 0 && c < mirror_cut) {
+                    continue;
                 }
-                out.push(if wsum > 0.0 {
-                    acc.map(|a| a / wsum)
+                let wgt = if level == 0 {
+                    // A narrow lobe (≈ 3°) for the mirror level.
+                    (-(1.0 - c) / 1.5e-3).exp() * sa
                 } else {
-                    [0.0; 3]
-                });
+                    let hv = (n + d).normalize();
+                    ggx_d(n.dot(hv), r) * c * sa
+                };
+                for ch in 0..3 {
+                    acc[ch] += l[ch] * wgt;
+                }
+                wsum += wgt;
             }
-        }
-    }
-    out
+            if wsum > 0.0 {
+                acc.map(|a| a / wsum)
+            } else {
+                [0.0; 3]
+            }
+        })
+        .collect()
 }
 
 /// Merges k × k blocks of texels of each face (power-weighted direction,
