@@ -16,6 +16,8 @@ pub enum RenderError {
     Device(String),
     /// The scene has a world (`world.gltf`) but the renderer was given none.
     WorldMissing,
+    /// A sky texture cannot be read or has the wrong size (naming the file).
+    Texture(crate::texture_sky::TextureError),
 }
 
 /// Why a backend cannot render a frame.
@@ -81,6 +83,7 @@ impl std::fmt::Display for RenderError {
             RenderError::WorldMissing => {
                 f.write_str("the scene has a 3D world but the renderer was given none (set_world)")
             }
+            RenderError::Texture(e) => e.fmt(f),
         }
     }
 }

@@ -8,6 +8,7 @@ use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
 use crate::projection::Camera;
 pub use crate::scene_error::SceneError;
+pub use crate::texture_spec::SkyTextureSpec;
 use crate::units::show;
 pub use crate::world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};
 
@@ -27,6 +28,9 @@ pub enum Effect {
     Planets,
     /// The Milky Way and the diffuse night-sky light (`crate::milkyway`).
     Milkyway,
+    /// A texture-mapped sky (`sky_texture`), instead of or blended over
+    /// the physical sky (`crate::texture_sky`).
+    Texture,
     /// Cloud layers (a later issue).
     Clouds,
     /// A 3D world's G-buffer and its lighting by the Sun, Moon and sky
@@ -50,13 +54,14 @@ impl Effect {
     /// All effects in back-to-front pass order (design.md).
     /// The sky passes first, then the lighting passes of a 3D world in
     /// their order (design.md).
-    pub const ALL: [Effect; 14] = [
+    pub const ALL: [Effect; 15] = [
         Effect::Milkyway,
         Effect::Stars,
         Effect::Planets,
         Effect::Moon,
         Effect::Sun,
         Effect::Atmosphere,
+        Effect::Texture,
         Effect::Clouds,
         Effect::World,
         Effect::Shadows,
@@ -76,6 +81,7 @@ impl Effect {
             Effect::Stars => "stars",
             Effect::Planets => "planets",
             Effect::Milkyway => "milkyway",
+            Effect::Texture => "texture",
             Effect::Clouds => "clouds",
             Effect::World => "world",
             Effect::Shadows => "shadows",
@@ -104,6 +110,7 @@ impl Effect {
                 | Effect::Stars
                 | Effect::Planets
                 | Effect::Milkyway
+                | Effect::Texture
                 | Effect::World
                 | Effect::Shadows
         )
@@ -131,7 +138,7 @@ pub fn parse_effects(list: &str) -> Result<Vec<Effect>, String> {
     for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let e = Effect::from_name(name).ok_or_else(|| {
             format!(
-                "unknown effect '{name}'; expected a comma list of atmosphere, sun, moon, stars, planets, milkyway, clouds, world, shadows, godrays, ao, ssr, gi, temporal"
+                "unknown effect '{name}'; expected a comma list of atmosphere, sun, moon, stars, planets, milkyway, texture, clouds, world, shadows, godrays, ao, ssr, gi, temporal"
             )
         })?;
         if !out.contains(&e) {
@@ -275,6 +282,9 @@ pub struct Scene {
     /// The lighting passes' settings (ranges in [`LightingSpec`]).
     #[serde(skip_serializing_if = "is_default_lighting")]
     pub lighting: LightingSpec,
+    /// A texture-mapped sky (default none; `crate::texture_spec`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sky_texture: Option<SkyTextureSpec>,
 }
 
 fn is_default_lighting(l: &LightingSpec) -> bool {
@@ -301,6 +311,7 @@ impl Default for Scene {
             world: None,
             fog: None,
             lighting: LightingSpec::default(),
+            sky_texture: None,
         }
     }
 }
@@ -330,9 +341,15 @@ impl Scene {
         de.end().map_err(|e| json_error("", &e))?;
         // serde also fills a struct from a list, by position
         // (`"observer": [48, 11]`): each group must be an object.
+        // (The structure: the default scene with every optional group
+        // that has one filled in.)
+        let structure = Scene {
+            sky_texture: Some(SkyTextureSpec::template()),
+            ..Scene::default()
+        };
         if let (Ok(given), Ok(default)) = (
             serde_json::from_str::<serde_json::Value>(s),
-            serde_json::to_value(Scene::default()),
+            serde_json::to_value(structure),
         ) {
             objects_where_objects(&given, &default, "")?;
         }
@@ -368,6 +385,16 @@ impl Scene {
         let mut v = serde_json::to_value(&s).unwrap_or_default();
         v["lighting"] = serde_json::to_value(LightingSpec::default()).unwrap_or_default();
         serde_json::to_string_pretty(&v).unwrap_or_default()
+    }
+
+    /// The default scene with a sky texture, every one of its keys filled
+    /// (`himmel scene-template --sky-texture`).
+    pub fn template_sky_texture_json() -> String {
+        let s = Scene {
+            sky_texture: Some(SkyTextureSpec::template()),
+            ..Scene::default()
+        };
+        serde_json::to_string_pretty(&s).unwrap_or_default()
     }
 
     /// Whether the scene asks for `e`.
@@ -431,6 +458,9 @@ impl Scene {
             .map_err(|e| SceneError::new(&e.field, e.expected))?;
         crate::world_spec::validate_fog(&self.fog)?;
         self.lighting.validate()?;
+        if let Some(t) = &self.sky_texture {
+            t.validate()?;
+        }
         if self.world.is_some() && self.camera.projection != crate::Projection::Perspective {
             return Err(SceneError::new(
                 "camera.projection",
@@ -536,20 +566,32 @@ fn objects_where_objects(
     let (Some(given), Some(default)) = (given.as_object(), default.as_object()) else {
         return Ok(());
     };
-    for (k, d) in default.iter().filter(|(_, d)| d.is_object()) {
+    let object = |g: &serde_json::Value, d: &serde_json::Value, p: &str| {
+        if g.is_null() || g.is_object() {
+            objects_where_objects(g, d, p)
+        } else {
+            Err(SceneError::new(
+                p,
+                format!("expected an object ({{ … }}), found {}", kind_of(g)),
+            ))
+        }
+    };
+    for (k, d) in default.iter() {
         let Some(g) = given.get(k) else { continue };
         let p = if path.is_empty() {
             k.clone()
         } else {
             format!("{path}.{k}")
         };
-        if !g.is_object() {
-            return Err(SceneError::new(
-                &p,
-                format!("expected an object ({{ … }}), found {}", kind_of(g)),
-            ));
+        if d.is_object() {
+            object(g, d, &p)?;
         }
-        objects_where_objects(g, d, &p)?;
+        // A list of groups (`sky_texture.transitions`): each an object.
+        if let (Some(d0), Some(list)) = (d.get(0).filter(|d0| d0.is_object()), g.as_array()) {
+            for (i, gi) in list.iter().enumerate() {
+                object(gi, d0, &format!("{p}[{i}]"))?;
+            }
+        }
     }
     Ok(())
 }
@@ -570,6 +612,11 @@ fn kind_of(v: &serde_json::Value) -> String {
 /// serde's "invalid type: X, expected Y" and "invalid value: X, expected
 /// Y" as "expected Y', found X'" in words (other messages unchanged).
 fn readable(text: &str) -> String {
+    // A list given for a group without defaults (serde fills structs
+    // from lists by position).
+    if text.starts_with("invalid length ") && text.contains(", expected struct ") {
+        return "expected an object ({ … }), found a list".into();
+    }
     let Some(rest) = text
         .strip_prefix("invalid type: ")
         .or_else(|| text.strip_prefix("invalid value: "))
