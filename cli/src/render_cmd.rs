@@ -706,14 +706,16 @@ fn make_world_renderer(
 /// default scene (with `--world`, also the world, camera placement, fog and
 /// lighting keys; with `--sky-texture`, every `sky_texture` key).
 pub fn template(a: &TemplateArgs) -> Result<(), CliError> {
-    if a.world {
-        println!("{}", Scene::template_world_json());
+    use std::io::Write;
+    let text = if a.world {
+        Scene::template_world_json()
     } else if a.sky_texture {
-        println!("{}", Scene::template_sky_texture_json());
+        Scene::template_sky_texture_json()
     } else {
-        println!("{}", Scene::template_json());
-    }
-    Ok(())
+        Scene::template_json()
+    };
+    // A reader that stops early (`| head`) ends the program quietly.
+    writeln!(std::io::stdout().lock(), "{text}").map_err(CliError::stdout)
 }
 
 /// A directional light's `--stats` fields (zero when it does not light).

@@ -133,5 +133,8 @@ fn transition_rotation_and_horizon_band() {
     let plan = cpu.plan(&s, &state).unwrap();
     let t = plan.texture.unwrap();
     let gains: Vec<f32> = t.layers.iter().map(|l| l.gain).collect();
-    assert_eq!(gains, vec![0.5, 0.5], "half-way through the fade");
+    assert!(
+        gains.len() == 2 && gains.iter().all(|g| (g - 0.5).abs() < 1e-5),
+        "half-way through the fade: {gains:?}"
+    );
 }

@@ -253,3 +253,150 @@ pub fn arrange(passes: &mut Vec<PlannedPass>, spec: &SkyTextureSpec) {
     rest.splice(at..at, front);
     *passes = rest;
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::plan::PlannedPass;
+    use crate::scene::Scene;
+    use crate::texture_spec::{RotationSpec, TransitionSpec};
+
+    fn state_at(utc: &str) -> SkyState {
+        let mut s = Scene::default();
+        s.time.utc = utc.into();
+        SkyState::at(&s).unwrap()
+    }
+
+    /// With `sidereal`, a star seen now at d looks up the texture where
+    /// the same star stood at the reference instant (the star frame of
+    /// the exact reduction at both instants, 3 h apart).
+    #[test]
+    fn sidereal_rotation_keeps_a_star_photo_on_the_stars() {
+        let (t0, t1) = ("2024-01-15T20:00:00Z", "2024-01-15T23:00:00Z");
+        let spec = SkyTextureSpec {
+            rotation: RotationSpec {
+                mode: RotationMode::Sidereal,
+                reference_utc: t0.into(),
+                ..RotationSpec::default()
+            },
+            ..SkyTextureSpec::default()
+        };
+        let (s0, s1) = (state_at(t0), state_at(t1));
+        let r = rotation(&spec, &s1).unwrap();
+        for v in [
+            DVec3::new(0.3, 0.5, 0.81),
+            DVec3::new(-0.7, 0.2, 0.1),
+            DVec3::X,
+        ] {
+            let v = v.normalize();
+            let d0 = s0.night.star_frame.icrs_to_enu * v;
+            let d1 = s1.night.star_frame.icrs_to_enu * v;
+            let off = (r * d1).angle_between(d0).to_degrees();
+            assert!(off < 0.05, "{v}: {off}°");
+        }
+        // A fixed rotation by 90° shows the texture's North in the East.
+        let fixed = SkyTextureSpec {
+            rotation: RotationSpec {
+                azimuth_deg: 90.0,
+                ..RotationSpec::default()
+            },
+            ..SkyTextureSpec::default()
+        };
+        let r = rotation(&fixed, &s1).unwrap();
+        assert!((r * DVec3::X - DVec3::Y).length() < 1e-12);
+    }
+
+    #[test]
+    fn the_schedule_cross_fades() {
+        let spec = SkyTextureSpec {
+            path: "a".into(),
+            transitions: vec![
+                TransitionSpec {
+                    path: "b".into(),
+                    mapping: Some(Mapping::Cube),
+                    at_utc: "2024-01-01T12:00:00Z".into(),
+                    fade_s: 3600.0,
+                },
+                TransitionSpec {
+                    path: "c".into(),
+                    mapping: None,
+                    at_utc: "2024-01-01T18:00:00Z".into(),
+                    fade_s: 0.0,
+                },
+            ],
+            ..SkyTextureSpec::default()
+        };
+        let at = |utc: &str| {
+            let jd = parse_time("t", utc).unwrap();
+            schedule(&spec, jd)
+                .unwrap()
+                .into_iter()
+                .map(|(p, m, w)| (p, m, (w * 1000.0).round() / 1000.0))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(
+            at("2024-01-01T11:00:00Z"),
+            vec![("a".into(), Mapping::Sphere, 1.0)]
+        );
+        assert_eq!(
+            at("2024-01-01T12:15:00Z"),
+            vec![
+                ("a".into(), Mapping::Sphere, 0.75),
+                ("b".into(), Mapping::Cube, 0.25)
+            ]
+        );
+        assert_eq!(
+            at("2024-01-01T13:00:00Z"),
+            vec![("b".into(), Mapping::Cube, 1.0)]
+        );
+        assert_eq!(
+            at("2024-01-01T18:00:00Z"),
+            vec![("c".into(), Mapping::Sphere, 1.0)]
+        );
+    }
+
+    #[test]
+    fn the_band_and_the_pass_order() {
+        let band = HorizonBand {
+            color: [1.0; 3],
+            height_deg: 5.0,
+            softness_deg: 4.0,
+        };
+        assert_eq!(band.weight(-10.0), 1.0);
+        assert_eq!(band.weight(5.0), 1.0);
+        assert!((band.weight(7.0) - 0.5).abs() < 1e-6);
+        assert_eq!(band.weight(9.0), 0.0);
+        let spec = SkyTextureSpec {
+            keep: vec![Effect::Sun, Effect::Stars],
+            ..SkyTextureSpec::default()
+        };
+        let mut passes: Vec<PlannedPass> = Effect::ALL
+            .into_iter()
+            .map(|effect| PlannedPass {
+                effect,
+                run: true,
+                reason: None,
+            })
+            .collect();
+        arrange(&mut passes, &spec);
+        let order: Vec<(&str, bool)> = passes
+            .iter()
+            .take(9)
+            .map(|p| (p.effect.name(), p.run))
+            .collect();
+        assert_eq!(
+            order,
+            vec![
+                ("milkyway", false),
+                ("planets", false),
+                ("moon", false),
+                ("atmosphere", false),
+                ("texture", true),
+                ("stars", true),
+                ("sun", true),
+                ("clouds", true),
+                ("world", true),
+            ]
+        );
+    }
+}
