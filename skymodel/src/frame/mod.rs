@@ -21,6 +21,8 @@
 //!   pixel angle, margin, supersampling, rectangle;
 //! * [`NightFrame`] ([`night`]) — the exposure, extinction, background,
 //!   point sources and the culling of the night passes;
+//! * [`TextureFrame`] ([`texture`]) — a texture-mapped sky's textures,
+//!   cross-fade gains, rotation, blend and horizon band;
 //! * [`PixelDirections`] ([`pixels`]) — pixel-centre view directions in
 //!   f32 as the CPU walks the image;
 //! * [`DirectLights`], [`AerialPerspective`] ([`lights`]) — what a 3D
