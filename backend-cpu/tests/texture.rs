@@ -138,7 +138,7 @@ fn the_masked_sun_is_replaced_by_the_ephemeris_sun() {
     write_texture(&path, &sky_with_sun()).unwrap();
     let spec = SkyTextureSpec {
         path: path.display().to_string(),
-        keep: vec![Effect::Sun],
+        keep: vec![himmel_skymodel::texture_spec::KeptPass::Sun],
         sun_mask: Some(SunMaskSpec::default()),
         ..SkyTextureSpec::default()
     };

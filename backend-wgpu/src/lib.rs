@@ -239,8 +239,9 @@ impl WgpuRenderer {
         self.lut_source
     }
 
-    /// Sets the decoder of sky texture files (this crate reads none:
-    /// `himmel_cpu::texture_io::ImageLoader` reads PNG, JPEG, EXR and HDR).
+    /// Sets the decoder of sky texture files (this crate reads no image
+    /// format; the CPU backend's `texture_io::ImageLoader` reads PNG, JPEG,
+    /// EXR and HDR).
     pub fn set_texture_loader(
         &mut self,
         loader: std::sync::Arc<dyn himmel_skymodel::texture_sky::TextureLoader>,

@@ -10,7 +10,6 @@ use clap::{Args, Subcommand};
 use himmel_cpu::texture_io::{read_texture, write_texture};
 use himmel_skymodel::texture_sky::{convert, Mapping, SkyTexture};
 
-use himmel_skymodel::scene::parse_effects;
 use himmel_skymodel::Scene;
 
 use crate::render_cmd::RenderArgs;
@@ -144,21 +143,8 @@ pub(crate) fn apply_flags(a: &RenderArgs, scene: &mut Scene) -> Result<(), CliEr
         };
     }
     if let Some(list) = &a.sky_keep {
-        spec.keep = parse_effects(list).map_err(|e| CliError::input(format!("--sky-keep: {e}")))?;
-        if let Some(e) = spec.keep.iter().find(|e| {
-            !matches!(
-                e,
-                himmel_skymodel::Effect::Sun
-                    | himmel_skymodel::Effect::Moon
-                    | himmel_skymodel::Effect::Stars
-                    | himmel_skymodel::Effect::Planets
-            )
-        }) {
-            return Err(CliError::input(format!(
-                "--sky-keep: '{}' cannot be kept in front of a sky texture; expected sun, moon, stars or planets",
-                e.name()
-            )));
-        }
+        spec.keep = himmel_skymodel::texture_spec::KeptPass::parse_list(list)
+            .map_err(|e| CliError::input(format!("--sky-keep: {e}")))?;
     }
     if a.sky_mask_sun && spec.sun_mask.is_none() {
         spec.sun_mask = Some(SunMaskSpec::default());

@@ -4,10 +4,60 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene::Effect;
 use crate::scene_error::SceneError;
 use crate::texture_sky::Mapping;
 use crate::units::show;
+
+/// A physical pass that can be kept in front of the texture.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum KeptPass {
+    /// The Sun's disk.
+    Sun,
+    /// The Moon.
+    Moon,
+    /// The catalogue stars.
+    Stars,
+    /// Mercury–Saturn.
+    Planets,
+}
+
+impl KeptPass {
+    /// Every pass that can be kept.
+    pub const ALL: [KeptPass; 4] = [
+        KeptPass::Sun,
+        KeptPass::Moon,
+        KeptPass::Stars,
+        KeptPass::Planets,
+    ];
+
+    /// Its name (the effect's).
+    pub fn name(self) -> &'static str {
+        match self {
+            KeptPass::Sun => "sun",
+            KeptPass::Moon => "moon",
+            KeptPass::Stars => "stars",
+            KeptPass::Planets => "planets",
+        }
+    }
+
+    /// Parses a comma list of names (`--sky-keep`), naming a bad entry.
+    pub fn parse_list(list: &str) -> Result<Vec<KeptPass>, String> {
+        let mut out = Vec::new();
+        for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
+            let k = KeptPass::ALL
+                .into_iter()
+                .find(|k| k.name().eq_ignore_ascii_case(name))
+                .ok_or_else(|| {
+                    format!("'{name}' cannot be kept in front of a sky texture; expected a comma list of sun, moon, stars, planets")
+                })?;
+            if !out.contains(&k) {
+                out.push(k);
+            }
+        }
+        Ok(out)
+    }
+}
 
 /// How the texture's values become radiance.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -162,7 +212,7 @@ pub struct SkyTextureSpec {
     pub blend: f64,
     /// Physical passes drawn in front of the texture: any of `sun`,
     /// `moon`, `stars`, `planets` (default none).
-    pub keep: Vec<Effect>,
+    pub keep: Vec<KeptPass>,
     /// The rotation (default fixed at 0°).
     pub rotation: RotationSpec,
     /// A horizon band (default none).
@@ -196,7 +246,7 @@ impl SkyTextureSpec {
     /// A spec with every key filled (`himmel scene-template --sky-texture`).
     pub fn template() -> SkyTextureSpec {
         SkyTextureSpec {
-            keep: vec![Effect::Sun, Effect::Moon],
+            keep: vec![KeptPass::Sun, KeptPass::Moon],
             horizon: Some(HorizonSpec::default()),
             sun_mask: Some(SunMaskSpec {
                 direction: Some(TextureDirection {
@@ -277,20 +327,6 @@ impl SkyTextureSpec {
                 return Err(SceneError::new(
                     &f,
                     format!("{} is outside [{}, {}]", show(v), show(lo), show(hi)),
-                ));
-            }
-        }
-        for (k, e) in self.keep.iter().enumerate() {
-            if !matches!(
-                e,
-                Effect::Sun | Effect::Moon | Effect::Stars | Effect::Planets
-            ) {
-                return Err(SceneError::new(
-                    &format!("{p}.keep[{k}]"),
-                    format!(
-                        "'{}' cannot be kept in front of a sky texture; expected sun, moon, stars or planets",
-                        e.name()
-                    ),
                 ));
             }
         }

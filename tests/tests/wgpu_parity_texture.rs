@@ -74,7 +74,7 @@ fn every_mapping() {
         let spec = SkyTextureSpec {
             path,
             mapping: m,
-            keep: vec![Effect::Sun],
+            keep: vec![himmel_skymodel::texture_spec::KeptPass::Sun],
             ..SkyTextureSpec::default()
         };
         parity(

@@ -28,7 +28,7 @@ use crate::scene::Effect;
 use crate::state::SkyState;
 use crate::texture_sky::store::SunMask;
 use crate::texture_sky::{horizontal_illuminance, Mapping, SkyTexture, TextureStore};
-use crate::texture_spec::{parse_time, RotationMode, SkyTextureSpec, TextureUnits};
+use crate::texture_spec::{parse_time, KeptPass, RotationMode, SkyTextureSpec, TextureUnits};
 
 /// The Earth's rotation relative to the stars, degrees per hour of time.
 pub const SIDEREAL_DEG_PER_H: f64 = 15.041_068_64;
@@ -227,13 +227,23 @@ pub fn rotation(spec: &SkyTextureSpec, state: &SkyState) -> Result<DMat3, Render
     Ok(az * turn)
 }
 
+/// The effect of a kept pass.
+pub fn effect_of(k: KeptPass) -> Effect {
+    match k {
+        KeptPass::Sun => Effect::Sun,
+        KeptPass::Moon => Effect::Moon,
+        KeptPass::Stars => Effect::Stars,
+        KeptPass::Planets => Effect::Planets,
+    }
+}
+
 /// Puts the texture pass's neighbours in order: with `blend` 1 the
 /// atmosphere, the Milky Way and every body not kept are skipped
 /// ([`SkipReason::ReplacedByTexture`]); the kept passes move after the
 /// texture pass (drawn over it).
 pub fn arrange(passes: &mut Vec<PlannedPass>, spec: &SkyTextureSpec) {
     let replace = spec.blend >= 1.0;
-    let kept = |e: Effect| spec.keep.contains(&e);
+    let kept = |e: Effect| spec.keep.iter().any(|k| effect_of(*k) == e);
     for p in passes.iter_mut() {
         let body = matches!(
             p.effect,
@@ -367,7 +377,7 @@ mod tests {
         assert!((band.weight(7.0) - 0.5).abs() < 1e-6);
         assert_eq!(band.weight(9.0), 0.0);
         let spec = SkyTextureSpec {
-            keep: vec![Effect::Sun, Effect::Stars],
+            keep: vec![KeptPass::Sun, KeptPass::Stars],
             ..SkyTextureSpec::default()
         };
         let mut passes: Vec<PlannedPass> = Effect::ALL
