@@ -525,7 +525,7 @@ impl WgpuRenderer {
                     }
                 }
                 Effect::Texture => {
-                    if let Some(t) = p.texture.prepare(gpu, plan) {
+                    if let Some(t) = p.texture.prepare(gpu, plan)? {
                         add(Box::new(t));
                     }
                 }

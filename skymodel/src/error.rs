@@ -41,6 +41,13 @@ pub enum Unavailable {
     /// The point-source quads cannot blend into this target format (its
     /// name) on this adapter.
     QuadFormat(String),
+    /// The frame's sky textures need more storage than the adapter binds.
+    TextureTooLarge {
+        /// Bytes the textures need.
+        bytes: u64,
+        /// The adapter's largest storage-buffer binding, bytes.
+        max_bytes: u64,
+    },
 }
 
 impl std::fmt::Display for Unavailable {
@@ -66,6 +73,12 @@ impl std::fmt::Display for Unavailable {
             Unavailable::QuadFormat(format) => write!(
                 f,
                 "the point-source quads cannot blend into {format} on this adapter"
+            ),
+            Unavailable::TextureTooLarge { bytes, max_bytes } => write!(
+                f,
+                "the sky textures need {:.1} MiB of GPU storage, more than this adapter binds ({:.1} MiB)",
+                *bytes as f64 / 1048576.0,
+                *max_bytes as f64 / 1048576.0
             ),
         }
     }

@@ -77,9 +77,23 @@ fn every_mapping() {
             keep: vec![himmel_skymodel::texture_spec::KeptPass::Sun],
             ..SkyTextureSpec::default()
         };
-        parity(
+        let (_, g) = parity(
             &format!("texture {m}, fisheye"),
             &textured(Projection::Fisheye, 64, 64, spec.clone()),
+        );
+        // The texture is what is drawn: the pattern lies in 1 500 … 10 000 cd/m².
+        let mut y: Vec<f32> = g
+            .pixels
+            .iter()
+            .zip(&g.valid)
+            .filter(|(_, v)| **v)
+            .map(|(p, _)| himmel_skymodel::spectrum::luminance(*p))
+            .collect();
+        y.sort_by(f32::total_cmp);
+        let median = y[y.len() / 2];
+        assert!(
+            (1500.0..10_000.0).contains(&median),
+            "{m}: median {median} cd/m²"
         );
         if m == Mapping::CubeUniform {
             let mut s = textured(Projection::Perspective, 64, 48, spec);

@@ -10,7 +10,7 @@ use std::sync::Arc;
 use bytemuck::{Pod, Zeroable};
 use himmel_skymodel::frame::TextureFrame;
 use himmel_skymodel::texture_sky::SkyTexture;
-use himmel_skymodel::FramePlan;
+use himmel_skymodel::{FramePlan, RenderError, Unavailable};
 use wgpu::util::DeviceExt;
 
 use crate::frame::SkyGroup;
@@ -139,14 +139,34 @@ impl TexturePass {
 
     /// Uploads the frame's textures (when they changed) and its uniforms;
     /// the pass over every band, when the plan draws a sky texture.
-    pub fn prepare(&mut self, gpu: &Gpu, plan: &FramePlan) -> Option<Dispatch> {
-        let t = plan.texture.as_ref()?;
+    /// Textures beyond the adapter's storage-buffer binding limit are
+    /// [`Unavailable::TextureTooLarge`] (`--backend auto` then renders on
+    /// the CPU).
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        plan: &FramePlan,
+    ) -> Result<Option<Dispatch>, RenderError> {
+        let Some(t) = plan.texture.as_ref() else {
+            return Ok(None);
+        };
         let textures: Vec<Arc<SkyTexture>> =
             t.layers.iter().take(2).map(|l| l.texture.clone()).collect();
         let same = self.texels.as_ref().is_some_and(|(held, _)| {
             held.len() == textures.len()
                 && held.iter().zip(&textures).all(|(a, b)| Arc::ptr_eq(a, b))
         });
+        let bytes: u64 = textures.iter().map(|x| 12 * x.texels.len() as u64).sum();
+        let limits = gpu.device.limits();
+        let max_bytes = limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size);
+        if bytes > max_bytes {
+            return Err(RenderError::Unavailable(Unavailable::TextureTooLarge {
+                bytes,
+                max_bytes,
+            }));
+        }
         if !same {
             let mut data: Vec<f32> = Vec::new();
             for x in &textures {
@@ -164,7 +184,9 @@ impl TexturePass {
                 });
             self.texels = Some((textures, buf));
         }
-        let buf = self.texels.as_ref().map(|(_, b)| b.clone())?;
+        let Some(buf) = self.texels.as_ref().map(|(_, b)| b.clone()) else {
+            return Ok(None);
+        };
         let u = texture_uniforms(t);
         let uniform = gpu
             .device
@@ -179,12 +201,12 @@ impl TexturePass {
             &self.layout,
             &[uniform.as_entire_binding(), buf.as_entire_binding()],
         );
-        Some(Dispatch {
+        Ok(Some(Dispatch {
             label: "texture",
             pipeline: self.pipeline.clone(),
             group1: Some(group),
             groups: Groups::Band,
-        })
+        }))
     }
 }
 
