@@ -15,6 +15,8 @@ pub mod night_pass;
 pub mod output;
 pub mod overlay;
 pub mod sun_pass;
+pub mod texture_io;
+pub mod texture_pass;
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -86,9 +88,9 @@ pub struct CpuRenderer {
 impl CpuRenderer {
     /// A renderer with the given disk cache (see [`default_cache_dir`]).
     pub fn new(cache_dir: Option<PathBuf>) -> Self {
-        CpuRenderer {
-            store: LutStore::new(cache_dir),
-        }
+        let mut store = LutStore::new(cache_dir);
+        store.textures.set_loader(Arc::new(texture_io::ImageLoader));
+        CpuRenderer { store }
     }
 
     /// Shows a progress bar on stderr (when it is a terminal) during a
@@ -203,6 +205,11 @@ impl SkyRenderer for CpuRenderer {
                             Effect::Stars => night_pass::splat_all(n, &mut pixels, scene, &n.stars),
                             _ => night_pass::splat_all(n, &mut pixels, scene, &n.planets),
                         }
+                    }
+                }
+                Effect::Texture => {
+                    if let Some(t) = &plan.texture {
+                        texture_pass::render(&mut pixels, &dirs, t);
                     }
                 }
                 other => return Err(RenderError::PassNotAvailable(other)),

@@ -26,7 +26,7 @@
 //! * [`passes::atmosphere`], [`passes::sun`], [`passes::moon`] (disk and
 //!   eclipse corona), [`passes::milkyway`], [`passes::points`] (stars and
 //!   planets as tiles or instanced quads, [`PointMethod`]),
-//!   [`passes::store`].
+//!   [`passes::texture`] (texture-mapped skies), [`passes::store`].
 //!
 //! Frames larger than the adapter's storage-buffer limit render in bands of
 //! rows ([`frame::FrameLayout`]). Per-pass times come from timestamp
@@ -74,6 +74,7 @@ struct Passes {
     milkyway: passes::milkyway::MilkyWayPass,
     points: passes::points::PointsPass,
     store: passes::store::StorePass,
+    texture: passes::texture::TexturePass,
     /// The LUT compute passes, compiled on first use.
     luts: Option<passes::luts::LutPipelines>,
 }
@@ -128,6 +129,7 @@ impl WgpuRenderer {
             milkyway: passes::milkyway::MilkyWayPass::new(&gpu, &sky),
             points: passes::points::PointsPass::new(&gpu, &sky),
             store: passes::store::StorePass::new(&gpu, &sky),
+            texture: passes::texture::TexturePass::new(&gpu, &sky),
             luts: None,
             sky,
         };
@@ -235,6 +237,22 @@ impl WgpuRenderer {
     /// Where the parameter-dependent LUTs come from.
     pub fn lut_source(&self) -> LutSource {
         self.lut_source
+    }
+
+    /// Sets the decoder of sky texture files (this crate reads no image
+    /// format; the CPU backend's `texture_io::ImageLoader` reads PNG, JPEG,
+    /// EXR and HDR).
+    pub fn set_texture_loader(
+        &mut self,
+        loader: std::sync::Arc<dyn himmel_skymodel::texture_sky::TextureLoader>,
+    ) {
+        self.store.textures.set_loader(loader);
+    }
+
+    /// The sky textures kept by this renderer (register generated images
+    /// with `TextureStore::insert`).
+    pub fn textures(&mut self) -> &mut himmel_skymodel::texture_sky::TextureStore {
+        &mut self.store.textures
     }
 
     /// Shows a progress bar during a long CPU LUT precomputation (through
@@ -504,6 +522,11 @@ impl WgpuRenderer {
                 Effect::Stars | Effect::Planets => {
                     for s in p.points.steps(planned.effect) {
                         add(s);
+                    }
+                }
+                Effect::Texture => {
+                    if let Some(t) = p.texture.prepare(gpu, plan)? {
+                        add(Box::new(t));
                     }
                 }
                 // The world and its shadows are drawn after the sky

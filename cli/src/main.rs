@@ -10,6 +10,7 @@ mod events_cmd;
 mod render_cmd;
 mod sequence_cmd;
 mod stars_cmd;
+mod texture_cmd;
 
 use himmel_cli::timearg;
 
@@ -103,6 +104,9 @@ enum Command {
     Render(Box<render_cmd::RenderArgs>),
     /// Print a complete default scene (JSON) for `render --scene`.
     SceneTemplate(render_cmd::TemplateArgs),
+    /// Sky textures: `convert` resamples one into another mapping (e.g. an
+    /// equirect photograph into a uniform-density cube map).
+    SkyTexture(texture_cmd::SkyTextureArgs),
 }
 
 fn main() -> ExitCode {
@@ -146,6 +150,7 @@ fn main() -> ExitCode {
         Command::Eclipses(args) => events_cmd::run_eclipses(&args),
         Command::Render(args) => render_cmd::run(&args),
         Command::SceneTemplate(a) => render_cmd::template(&a),
+        Command::SkyTexture(a) => texture_cmd::run(&a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

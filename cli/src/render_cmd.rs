@@ -56,7 +56,7 @@ pub struct RenderArgs {
     /// cpu, wgpu or auto (default cpu).
     #[arg(long, value_name = "NAME", default_value = "cpu")]
     backend: String,
-    /// Comma list of atmosphere, sun, moon, stars, planets, milkyway, clouds.
+    /// Comma list of atmosphere, sun, moon, stars, planets, milkyway, texture, clouds.
     #[arg(long, value_name = "LIST")]
     effects: Option<String>,
     /// JSON scene file (see `himmel scene-template`); flags override it.
@@ -124,6 +124,31 @@ pub struct RenderArgs {
     /// planet names), or none; style from the scene's `overlay` key.
     #[arg(long, value_name = "LIST")]
     overlay: Option<String>,
+    /// A texture-mapped sky: an image (PNG, JPEG: sRGB; EXR, HDR: linear,
+    /// cd/m²) drawn instead of the physical sky (scene key `sky_texture`;
+    /// adds the `texture` effect).
+    #[arg(long, value_name = "FILE")]
+    pub(crate) sky_texture: Option<PathBuf>,
+    /// The sky texture's mapping: polar, sphere (equirect, default),
+    /// paraboloid (2N×N), cube or cube-uniform (6N×N strips).
+    #[arg(long, value_name = "NAME")]
+    pub(crate) sky_mapping: Option<String>,
+    /// The sky texture's weight over the physical sky, in [0, 1] (default 1:
+    /// it replaces the atmosphere and every body not kept).
+    #[arg(long, value_name = "A")]
+    pub(crate) sky_blend: Option<f64>,
+    /// `native` (HDR files in cd/m², LDR white = ldr_white_cd_m2) or `sky`
+    /// (scaled to the physical sky's horizontal illuminance).
+    #[arg(long, value_name = "UNITS")]
+    pub(crate) sky_units: Option<String>,
+    /// Physical passes drawn in front of the sky texture: a comma list of
+    /// sun, moon, stars, planets.
+    #[arg(long, value_name = "LIST")]
+    pub(crate) sky_keep: Option<String>,
+    /// Mask the sky texture's own sun (its brightest region, 3° radius);
+    /// keep the physical Sun with --sky-keep sun.
+    #[arg(long)]
+    pub(crate) sky_mask_sun: bool,
 }
 
 #[derive(Args, Debug)]
@@ -131,6 +156,9 @@ pub struct TemplateArgs {
     /// Include a world, its camera, a fog and every lighting key.
     #[arg(long)]
     world: bool,
+    /// Include a sky texture with every one of its keys.
+    #[arg(long, conflicts_with = "world")]
+    sky_texture: bool,
 }
 
 /// Parses `X,Y,Z` (three finite numbers) for `flag`.
@@ -161,7 +189,7 @@ pub(crate) fn scene_error(a: &RenderArgs, e: himmel_skymodel::SceneError) -> Cli
     }
 }
 
-fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
+pub(crate) fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
     if v.is_finite() {
         Ok(v)
     } else {
@@ -209,6 +237,8 @@ fn flag_of(a: &RenderArgs, field: &str) -> Option<&'static str> {
         "fog.phase.hg" => ("--fog-g", a.fog_g.is_some()),
         "fog.top_m" => ("--fog-top", a.fog_top.is_some()),
         "time.day_fraction" => ("--day-fraction", a.day_fraction.is_some()),
+        "sky_texture.path" => ("--sky-texture", a.sky_texture.is_some()),
+        "sky_texture.blend" => ("--sky-blend", a.sky_blend.is_some()),
         _ => return None,
     };
     // Without a scene file every value comes from a flag or its default.
@@ -341,6 +371,7 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
             fog.top_m = Some(finite("--fog-top", v)?);
         }
     }
+    crate::texture_cmd::apply_flags(a, &mut scene)?;
     if scene.world.is_some() && a.projection.is_none() && a.scene.is_none() {
         scene.camera.projection = Projection::Perspective;
     }
@@ -499,6 +530,8 @@ impl FrameRenderer {
                     self.backend
                 ),
             }),
+            // A sky texture that cannot be read is bad input (exit 2).
+            Err(RenderError::Texture(e)) => Err(CliError::input(e.to_string())),
             Err(e) => Err(CliError::other(e.to_string())),
         }
     }
@@ -664,6 +697,7 @@ fn make_renderer(backend: &str) -> Result<(Box<dyn SkyRenderer>, &'static str), 
             r.set_progress(Some(std::sync::Arc::new(
                 himmel_cpu::TerminalProgress::default(),
             )));
+            r.set_texture_loader(std::sync::Arc::new(himmel_cpu::texture_io::ImageLoader));
             let timing = r.timing().name();
             Ok((Box::new(r), timing))
         }
@@ -694,6 +728,7 @@ fn make_world_renderer(
                 himmel_cpu::TerminalProgress::default(),
             )));
             r.set_world(world);
+            r.set_texture_loader(std::sync::Arc::new(himmel_cpu::texture_io::ImageLoader));
             let timing = r.timing().name();
             Ok((Box::new(r), timing))
         }
@@ -706,15 +741,19 @@ fn make_world_renderer(
     }
 }
 
-/// `himmel scene-template [--world]`: prints the complete default scene
-/// (with `--world`, also the world, camera placement, fog and lighting keys).
+/// `himmel scene-template [--world | --sky-texture]`: prints the complete
+/// default scene (with `--world`, also the world, camera placement, fog and
+/// lighting keys; with `--sky-texture`, every `sky_texture` key).
 pub fn template(a: &TemplateArgs) -> Result<(), CliError> {
     use std::io::Write;
     let text = if a.world {
         Scene::template_world_json()
+    } else if a.sky_texture {
+        Scene::template_sky_texture_json()
     } else {
         Scene::template_json()
     };
+    // A reader that stops early (`| head`) ends the program quietly.
     writeln!(std::io::stdout().lock(), "{text}").map_err(CliError::stdout)
 }
 

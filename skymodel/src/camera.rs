@@ -157,6 +157,16 @@ pub fn srgb_encode(x: f32) -> f32 {
     }
 }
 
+/// The sRGB transfer function's inverse (IEC 61966-2-1): an encoded value
+/// in [0, 1] → linear.
+pub fn srgb_decode(c: f32) -> f32 {
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
 /// 8×8 Bayer matrix.
 const BAYER8: [[u8; 8]; 8] = [
     [0, 32, 8, 40, 2, 34, 10, 42],

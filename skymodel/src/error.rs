@@ -16,6 +16,8 @@ pub enum RenderError {
     Device(String),
     /// The scene has a world (`world.gltf`) but the renderer was given none.
     WorldMissing,
+    /// A sky texture cannot be read or has the wrong size (naming the file).
+    Texture(crate::texture_sky::TextureError),
 }
 
 /// Why a backend cannot render a frame.
@@ -39,6 +41,13 @@ pub enum Unavailable {
     /// The point-source quads cannot blend into this target format (its
     /// name) on this adapter.
     QuadFormat(String),
+    /// The frame's sky textures need more storage than the adapter binds.
+    TextureTooLarge {
+        /// Bytes the textures need.
+        bytes: u64,
+        /// The adapter's largest storage-buffer binding, bytes.
+        max_bytes: u64,
+    },
 }
 
 impl std::fmt::Display for Unavailable {
@@ -65,6 +74,12 @@ impl std::fmt::Display for Unavailable {
                 f,
                 "the point-source quads cannot blend into {format} on this adapter"
             ),
+            Unavailable::TextureTooLarge { bytes, max_bytes } => write!(
+                f,
+                "the sky textures need {:.1} MiB of GPU storage, more than this adapter binds ({:.1} MiB)",
+                *bytes as f64 / 1048576.0,
+                *max_bytes as f64 / 1048576.0
+            ),
         }
     }
 }
@@ -81,6 +96,7 @@ impl std::fmt::Display for RenderError {
             RenderError::WorldMissing => {
                 f.write_str("the scene has a 3D world but the renderer was given none (set_world)")
             }
+            RenderError::Texture(e) => e.fmt(f),
         }
     }
 }

@@ -65,6 +65,8 @@ pub mod spectrum;
 pub mod stars;
 pub mod state;
 pub mod sun;
+pub mod texture_sky;
+pub mod texture_spec;
 pub mod units;
 pub mod world_spec;
 
@@ -75,4 +77,5 @@ pub use projection::{Camera, Projection};
 pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, Unavailable};
 pub use scene::{Effect, OverlaySpec, Scene, SceneError, StarParams};
 pub use state::{SkyState, SunState};
+pub use texture_spec::SkyTextureSpec;
 pub use world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};

@@ -41,6 +41,11 @@ pub enum SkipReason {
     NoWorld,
     /// Shadow maps while neither the Sun nor the Moon is above the horizon.
     NoDirectLight,
+    /// The texture pass of a scene without `sky_texture`.
+    NoTexture,
+    /// Hidden behind a sky texture that replaces the physical sky
+    /// (`sky_texture.blend` 1, the pass not in `sky_texture.keep`).
+    ReplacedByTexture,
 }
 
 /// Why a night pass is invisible at the frame's exposure
@@ -151,6 +156,10 @@ impl std::fmt::Display for SkipReason {
             SkipReason::NoDirectLight => f.write_str(
                 "neither the Sun nor the Moon is above the horizon: nothing casts a shadow",
             ),
+            SkipReason::NoTexture => f.write_str("no sky texture in the scene"),
+            SkipReason::ReplacedByTexture => {
+                f.write_str("replaced by the sky texture (blend 1; not in sky_texture.keep)")
+            }
         }
     }
 }
@@ -205,6 +214,7 @@ pub fn plan(
                         Some(SkipReason::PlanetsBelowHorizon)
                     }
                     e if e.is_lighting() && scene.world.is_none() => Some(SkipReason::NoWorld),
+                    Effect::Texture if scene.sky_texture.is_none() => Some(SkipReason::NoTexture),
                     Effect::Shadows
                         if sun.alt_refracted_deg <= 0.0
                             && (moon.alt_refracted_deg <= 0.0 || !scene.wants(Effect::Moon)) =>

@@ -292,17 +292,7 @@ impl Camera {
                 let face = ((px / h).floor() as i64).clamp(0, 5);
                 let s = (px - face as f64 * h) / h;
                 let t = py / h;
-                let (sc, tc) = (2.0 * s - 1.0, 2.0 * t - 1.0);
-                // OpenGL cube-map face table (major axis, sc, tc), scene frame.
-                let v = match face {
-                    0 => DVec3::new(1.0, -tc, -sc),
-                    1 => DVec3::new(-1.0, -tc, sc),
-                    2 => DVec3::new(sc, 1.0, tc),
-                    3 => DVec3::new(sc, -1.0, -tc),
-                    4 => DVec3::new(sc, -tc, 1.0),
-                    _ => DVec3::new(-sc, -tc, -1.0),
-                };
-                Some(enu_from_scene(v.normalize()))
+                Some(cube_face_dir(face as usize, 2.0 * s - 1.0, 2.0 * t - 1.0))
             }
         }
     }
@@ -339,25 +329,7 @@ impl Camera {
                 Some((w / 2.0 + nx * h / 2.0, h / 2.0 - ny * h / 2.0))
             }
             Projection::Cubemap => {
-                let v = scene_from_enu(d);
-                let a = v.abs();
-                let (face, sc, tc) = if a.x >= a.y && a.x >= a.z {
-                    if v.x > 0.0 {
-                        (0, -v.z / a.x, -v.y / a.x)
-                    } else {
-                        (1, v.z / a.x, -v.y / a.x)
-                    }
-                } else if a.y >= a.z {
-                    if v.y > 0.0 {
-                        (2, v.x / a.y, v.z / a.y)
-                    } else {
-                        (3, v.x / a.y, -v.z / a.y)
-                    }
-                } else if v.z > 0.0 {
-                    (4, v.x / a.z, -v.y / a.z)
-                } else {
-                    (5, -v.x / a.z, -v.y / a.z)
-                };
+                let (face, sc, tc) = cube_face_coords(d);
                 Some((face as f64 * h + (sc + 1.0) / 2.0 * h, (tc + 1.0) / 2.0 * h))
             }
         }
@@ -419,6 +391,46 @@ impl Camera {
             Projection::Perspective => 2.0 * (self.fov_deg.to_radians() / 2.0).tan() / h * 1.5,
             Projection::Cubemap => 2.0 / h * 1.5,
         }
+    }
+}
+
+/// The ENU direction at face coordinates (sc, tc) of cube face `face`
+/// (0–5: +X −X +Y −Y +Z −Z of the scene frame, OpenGL orientation; sc
+/// grows to the right, tc downwards, both −1 … 1 across the face and
+/// continued beyond its edges on the face's plane).
+pub fn cube_face_dir(face: usize, sc: f64, tc: f64) -> DVec3 {
+    let v = match face {
+        0 => DVec3::new(1.0, -tc, -sc),
+        1 => DVec3::new(-1.0, -tc, sc),
+        2 => DVec3::new(sc, 1.0, tc),
+        3 => DVec3::new(sc, -1.0, -tc),
+        4 => DVec3::new(sc, -tc, 1.0),
+        _ => DVec3::new(-sc, -tc, -1.0),
+    };
+    enu_from_scene(v.normalize())
+}
+
+/// The cube face (0–5) that shows ENU direction `d` and its face
+/// coordinates (sc, tc) in [−1, 1] ([`cube_face_dir`]'s inverse).
+pub fn cube_face_coords(d: DVec3) -> (usize, f64, f64) {
+    let v = scene_from_enu(d);
+    let a = v.abs();
+    if a.x >= a.y && a.x >= a.z {
+        if v.x > 0.0 {
+            (0, -v.z / a.x, -v.y / a.x)
+        } else {
+            (1, v.z / a.x, -v.y / a.x)
+        }
+    } else if a.y >= a.z {
+        if v.y > 0.0 {
+            (2, v.x / a.y, v.z / a.y)
+        } else {
+            (3, v.x / a.y, -v.z / a.y)
+        }
+    } else if v.z > 0.0 {
+        (4, v.x / a.z, -v.y / a.z)
+    } else {
+        (5, -v.x / a.z, -v.y / a.z)
     }
 }
 

@@ -9,6 +9,7 @@ use crate::camera::Exposure;
 pub use crate::overlay_spec::OverlaySpec;
 use crate::projection::Camera;
 pub use crate::scene_error::SceneError;
+pub use crate::texture_spec::SkyTextureSpec;
 use crate::units::show;
 pub use crate::world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};
 
@@ -28,6 +29,9 @@ pub enum Effect {
     Planets,
     /// The Milky Way and the diffuse night-sky light (`crate::milkyway`).
     Milkyway,
+    /// A texture-mapped sky (`sky_texture`), instead of or blended over
+    /// the physical sky (`crate::texture_sky`).
+    Texture,
     /// Cloud layers (a later issue).
     Clouds,
     /// A 3D world's G-buffer and its lighting by the Sun, Moon and sky
@@ -51,13 +55,14 @@ impl Effect {
     /// All effects in back-to-front pass order (design.md).
     /// The sky passes first, then the lighting passes of a 3D world in
     /// their order (design.md).
-    pub const ALL: [Effect; 14] = [
+    pub const ALL: [Effect; 15] = [
         Effect::Milkyway,
         Effect::Stars,
         Effect::Planets,
         Effect::Moon,
         Effect::Sun,
         Effect::Atmosphere,
+        Effect::Texture,
         Effect::Clouds,
         Effect::World,
         Effect::Shadows,
@@ -77,6 +82,7 @@ impl Effect {
             Effect::Stars => "stars",
             Effect::Planets => "planets",
             Effect::Milkyway => "milkyway",
+            Effect::Texture => "texture",
             Effect::Clouds => "clouds",
             Effect::World => "world",
             Effect::Shadows => "shadows",
@@ -105,6 +111,7 @@ impl Effect {
                 | Effect::Stars
                 | Effect::Planets
                 | Effect::Milkyway
+                | Effect::Texture
                 | Effect::World
                 | Effect::Shadows
         )
@@ -132,7 +139,7 @@ pub fn parse_effects(list: &str) -> Result<Vec<Effect>, String> {
     for name in list.split(',').map(str::trim).filter(|s| !s.is_empty()) {
         let e = Effect::from_name(name).ok_or_else(|| {
             format!(
-                "unknown effect '{name}'; expected a comma list of atmosphere, sun, moon, stars, planets, milkyway, clouds, world, shadows, godrays, ao, ssr, gi, temporal"
+                "unknown effect '{name}'; expected a comma list of atmosphere, sun, moon, stars, planets, milkyway, texture, clouds, world, shadows, godrays, ao, ssr, gi, temporal"
             )
         })?;
         if !out.contains(&e) {
@@ -279,6 +286,9 @@ pub struct Scene {
     /// Constellation figures and labels over the PNG (ranges in
     /// [`OverlaySpec`]; default off).
     pub overlay: OverlaySpec,
+    /// A texture-mapped sky (default none; `crate::texture_spec`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sky_texture: Option<SkyTextureSpec>,
 }
 
 fn is_default_lighting(l: &LightingSpec) -> bool {
@@ -306,6 +316,7 @@ impl Default for Scene {
             fog: None,
             lighting: LightingSpec::default(),
             overlay: OverlaySpec::default(),
+            sky_texture: None,
         }
     }
 }
@@ -335,9 +346,15 @@ impl Scene {
         de.end().map_err(|e| json_error("", &e))?;
         // serde also fills a struct from a list, by position
         // (`"observer": [48, 11]`): each group must be an object.
+        // (The structure: the default scene with every optional group
+        // that has one filled in.)
+        let structure = Scene {
+            sky_texture: Some(SkyTextureSpec::template()),
+            ..Scene::default()
+        };
         if let (Ok(given), Ok(default)) = (
             serde_json::from_str::<serde_json::Value>(s),
-            serde_json::to_value(Scene::default()),
+            serde_json::to_value(structure),
         ) {
             objects_where_objects(&given, &default, "")?;
         }
@@ -373,6 +390,16 @@ impl Scene {
         let mut v = serde_json::to_value(&s).unwrap_or_default();
         v["lighting"] = serde_json::to_value(LightingSpec::default()).unwrap_or_default();
         serde_json::to_string_pretty(&v).unwrap_or_default()
+    }
+
+    /// The default scene with a sky texture, every one of its keys filled
+    /// (`himmel scene-template --sky-texture`).
+    pub fn template_sky_texture_json() -> String {
+        let s = Scene {
+            sky_texture: Some(SkyTextureSpec::template()),
+            ..Scene::default()
+        };
+        serde_json::to_string_pretty(&s).unwrap_or_default()
     }
 
     /// Whether the scene asks for `e`.
@@ -437,6 +464,9 @@ impl Scene {
         crate::world_spec::validate_fog(&self.fog)?;
         self.lighting.validate()?;
         self.overlay.validate()?;
+        if let Some(t) = &self.sky_texture {
+            t.validate()?;
+        }
         if self.world.is_some() && self.camera.projection != crate::Projection::Perspective {
             return Err(SceneError::new(
                 "camera.projection",
@@ -542,20 +572,32 @@ fn objects_where_objects(
     let (Some(given), Some(default)) = (given.as_object(), default.as_object()) else {
         return Ok(());
     };
-    for (k, d) in default.iter().filter(|(_, d)| d.is_object()) {
+    let object = |g: &serde_json::Value, d: &serde_json::Value, p: &str| {
+        if g.is_null() || g.is_object() {
+            objects_where_objects(g, d, p)
+        } else {
+            Err(SceneError::new(
+                p,
+                format!("expected an object ({{ … }}), found {}", kind_of(g)),
+            ))
+        }
+    };
+    for (k, d) in default.iter() {
         let Some(g) = given.get(k) else { continue };
         let p = if path.is_empty() {
             k.clone()
         } else {
             format!("{path}.{k}")
         };
-        if !g.is_object() {
-            return Err(SceneError::new(
-                &p,
-                format!("expected an object ({{ … }}), found {}", kind_of(g)),
-            ));
+        if d.is_object() {
+            object(g, d, &p)?;
         }
-        objects_where_objects(g, d, &p)?;
+        // A list of groups (`sky_texture.transitions`): each an object.
+        if let (Some(d0), Some(list)) = (d.get(0).filter(|d0| d0.is_object()), g.as_array()) {
+            for (i, gi) in list.iter().enumerate() {
+                object(gi, d0, &format!("{p}[{i}]"))?;
+            }
+        }
     }
     Ok(())
 }
@@ -576,6 +618,11 @@ fn kind_of(v: &serde_json::Value) -> String {
 /// serde's "invalid type: X, expected Y" and "invalid value: X, expected
 /// Y" as "expected Y', found X'" in words (other messages unchanged).
 fn readable(text: &str) -> String {
+    // A list given for a group without defaults (serde fills structs
+    // from lists by position).
+    if text.starts_with("invalid length ") && text.contains(", expected struct ") {
+        return "expected an object ({ … }), found a list".into();
+    }
     let Some(rest) = text
         .strip_prefix("invalid type: ")
         .or_else(|| text.strip_prefix("invalid value: "))

@@ -10,3 +10,4 @@ pub mod points;
 pub mod sky_view;
 pub mod store;
 pub mod sun;
+pub mod texture;

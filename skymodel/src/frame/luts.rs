@@ -113,6 +113,9 @@ pub struct LutStore {
     dir: Option<PathBuf>,
     progress: Option<Arc<dyn LutProgress>>,
     current: Option<Arc<AtmosphereLuts>>,
+    /// The sky textures of the last frames and their decoder
+    /// (`crate::texture_sky::TextureStore`).
+    pub textures: crate::texture_sky::TextureStore,
 }
 
 impl std::fmt::Debug for LutStore {

@@ -21,6 +21,8 @@
 //!   pixel angle, margin, supersampling, rectangle;
 //! * [`NightFrame`] ([`night`]) — the exposure, extinction, background,
 //!   point sources and the culling of the night passes;
+//! * [`TextureFrame`] ([`texture`]) — a texture-mapped sky's textures,
+//!   cross-fade gains, rotation, blend and horizon band;
 //! * [`PixelDirections`] ([`pixels`]) — pixel-centre view directions in
 //!   f32 as the CPU walks the image;
 //! * [`DirectLights`], [`AerialPerspective`] ([`lights`]) — what a 3D
@@ -34,6 +36,7 @@ pub mod night;
 pub mod pixels;
 pub mod sky_light;
 pub mod sun;
+pub mod texture;
 
 use std::sync::Arc;
 use std::time::Instant as Clock;
@@ -47,6 +50,7 @@ pub use night::NightFrame;
 pub use pixels::PixelDirections;
 pub use sky_light::{CpuSkyViews, SkyInputs, SkyLight, SkyViewSource};
 pub use sun::{CoronaFrame, SunFrame};
+pub use texture::TextureFrame;
 
 use crate::atmosphere::{AtmosphereLuts, SkyViewInput};
 use crate::error::RenderError;
@@ -87,6 +91,8 @@ pub struct FramePlan {
     pub moon: Option<MoonFrame>,
     /// The night passes, when one of them is planned.
     pub night: Option<NightFrame>,
+    /// The sky texture, when its pass runs.
+    pub texture: Option<TextureFrame>,
 }
 
 impl FramePlan {
@@ -126,10 +132,18 @@ impl FramePlan {
             corona: None,
             moon: None,
             night: None,
+            texture: None,
         };
+        let texture_spec = scene
+            .sky_texture
+            .as_ref()
+            .filter(|_| state.runs(Effect::Texture));
+        if let Some(spec) = texture_spec {
+            texture::arrange(&mut plan.passes, spec);
+        }
         let night_planned = [Effect::Milkyway, Effect::Stars, Effect::Planets]
             .into_iter()
-            .any(|e| state.runs(e));
+            .any(|e| plan.runs(e));
         if night_planned {
             plan.sky_light(views)?;
             let luts = plan.luts.as_deref();
@@ -147,6 +161,23 @@ impl FramePlan {
         }
         if plan.runs(Effect::Moon) {
             plan.moon = Some(MoonFrame::new(scene, state, plan.luts.as_deref(), r0));
+        }
+        if let Some(spec) = texture_spec {
+            let sky_lux = if spec.units == crate::texture_spec::TextureUnits::Sky {
+                plan.sky_light(views)?
+                    .map(|s| {
+                        crate::spectrum::luminance(lights::sky_horizontal_rgb(s).map(|v| v as f32))
+                    })
+                    .map(f64::from)
+            } else {
+                None
+            };
+            plan.texture = Some(TextureFrame::prepare(
+                spec,
+                state,
+                &mut store.textures,
+                sky_lux,
+            )?);
         }
         Ok(plan)
     }
