@@ -8,8 +8,11 @@
 //! lines are skipped with a warning, as are extensions other than
 //! `KHR_materials_emissive_strength` (`World::warnings`). Before a byte is
 //! read, every accessor the meshes use is checked against its buffer view
-//! and buffer, and every index against the vertex count, so a truncated or
-//! corrupted file is an error naming the accessor or index, never a panic.
+//! and buffer and against the formats glTF allows for its use, and every
+//! index against the vertex count; a node reached twice (a cycle or a second
+//! parent) is an error. A truncated, corrupted or malformed file is an
+//! error naming the accessor, index or node, never a panic or a hang
+//! (`himmel-fuzz gltf`, `docs/hardening.md`).
 //!
 //! **Export** ([`to_glb`]): one `.glb` with the world's meshes (positions,
 //! normals, texture coordinates, u32 indices; one node per mesh, identity
