@@ -57,6 +57,18 @@ fn read(bytes: &[u8], file: &str, base: Option<&Path>) -> Result<World, WorldErr
         kind,
     };
     let parse = |e: gltf::Error| err(WorldErrorKind::Parse(e.to_string()));
+    // gltf 1.4 subtracts the 12-byte header from a GLB's declared length
+    // unchecked (an overflow panic where overflow checks are on; found by
+    // the fuzz smoke run in the dev profile).
+    let declared = bytes
+        .strip_prefix(b"glTF")
+        .and_then(|b| b.get(4..8))
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    if let Some(n) = declared.filter(|&n| n < 12) {
+        return Err(err(WorldErrorKind::Parse(format!(
+            "the GLB header declares {n} bytes, less than the header itself"
+        ))));
+    }
     let gltf::Gltf { document, blob } =
         gltf::Gltf::from_slice_without_validation(bytes).map_err(parse)?;
     let document = validated(document).map_err(&err)?;

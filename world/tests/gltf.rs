@@ -312,3 +312,20 @@ fn accessor_formats_are_checked() {
         assert!(e.to_string().contains(expected), "{e}");
     }
 }
+
+/// A GLB whose header declares fewer bytes than the 12-byte header is an
+/// error (the gltf crate subtracted unchecked: an overflow panic with
+/// overflow checks on; found by the fuzz smoke run in the dev profile).
+#[test]
+fn a_glb_shorter_than_its_header_is_an_error() {
+    let glb = to_glb(&procedural::plane_and_boxes());
+    for n in [0u32, 11] {
+        let mut c = glb.clone();
+        c[8..12].copy_from_slice(&n.to_le_bytes());
+        let e = from_slice(&c, "short.glb").unwrap_err();
+        assert!(
+            e.to_string().contains(&format!("declares {n} bytes")),
+            "{e}"
+        );
+    }
+}
