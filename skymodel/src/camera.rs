@@ -281,16 +281,17 @@ pub struct ToneTable {
 }
 
 impl ToneTable {
-    /// The table, computed on first use (a few milliseconds).
+    /// The table, computed on first use (a few milliseconds, one thread).
     pub fn get() -> &'static ToneTable {
         static CELL: std::sync::OnceLock<ToneTable> = std::sync::OnceLock::new();
         CELL.get_or_init(ToneTable::new)
     }
 
+    /// Serial on purpose: the first caller may be a rayon task (the PNG
+    /// rows), and a parallel initialiser could then steal another row's
+    /// task on the same thread and re-enter the initialisation.
     fn new() -> ToneTable {
-        use rayon::prelude::*;
         let thresholds = (0..=UNDITHERED)
-            .into_par_iter()
             .map(|di| {
                 let d = dither_offset(di);
                 let mut t = [f32::NAN; 256];
