@@ -1,4 +1,5 @@
-//! Mutation fuzzing of Himmel's text parsers on stable Rust.
+//! Mutation fuzzing of Himmel's parsers on stable Rust: the text formats
+//! and glTF 2.0 worlds (`.glb` and `.gltf` bytes).
 //!
 //! No nightly toolchain is reachable here, so `cargo fuzz` (libFuzzer) is
 //! out; this is a small structure-aware mutation fuzzer instead. Each
@@ -29,6 +30,7 @@ use himmel_catalog::sources::{parse_d3_starnames, parse_d3_stars, parse_hip2, pa
 use himmel_cli::inputs::parse_batch_line;
 use himmel_cli::timearg::{format_utc, parse_date_or_time};
 use himmel_skymodel::scene::Scene;
+use himmel_world::gltf_io;
 
 /// A parser under test.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -44,16 +46,20 @@ pub enum Target {
     Hip2,
     /// d3-celestial's `stars.*.json` and `starnames.json`.
     D3,
+    /// glTF 2.0 worlds, `.glb` or self-contained `.gltf`
+    /// (`himmel_world::gltf_io::from_slice`, the `--world` loader).
+    Gltf,
 }
 
 impl Target {
     /// Every target.
-    pub const ALL: [Target; 5] = [
+    pub const ALL: [Target; 6] = [
         Target::Time,
         Target::Scene,
         Target::Batch,
         Target::Hip2,
         Target::D3,
+        Target::Gltf,
     ];
 
     /// The target's name on the command line.
@@ -64,6 +70,7 @@ impl Target {
             Target::Batch => "batch",
             Target::Hip2 => "hip2",
             Target::D3 => "d3",
+            Target::Gltf => "gltf",
         }
     }
 
@@ -120,6 +127,7 @@ impl Target {
                 include_str!("../../catalog/tests/data/stars8_excerpt.json").into(),
                 include_str!("../../catalog/tests/data/starnames_excerpt.json").into(),
             ],
+            Target::Gltf => return gltf_seeds(),
         };
         v.into_iter().map(String::into_bytes).collect()
     }
@@ -127,8 +135,14 @@ impl Target {
     /// Runs one input: `Ok(outcome)` names what happened (for the corpus
     /// feedback), `Err` is a finding other than a panic.
     fn run(self, input: &[u8]) -> Result<String, String> {
-        let text = String::from_utf8_lossy(input);
-        let s: &str = &text;
+        match self {
+            Target::Gltf => gltf(input),
+            text => text.run_text(&String::from_utf8_lossy(input)),
+        }
+    }
+
+    /// Runs one input of a text format.
+    fn run_text(self, s: &str) -> Result<String, String> {
         match self {
             Target::Time => time(s),
             Target::Scene => scene(s),
@@ -143,8 +157,153 @@ impl Target {
                 let b = outcome(parse_d3_starnames(s).map(|_| ()))?;
                 Ok(format!("{a}|{b}"))
             }
+            Target::Gltf => gltf(s.as_bytes()),
         }
     }
+
+    /// The largest input of the target; longer mutants are cut.
+    fn max_input(self) -> usize {
+        match self {
+            // The atrium seed is 210 kB.
+            Target::Gltf => 256 * 1024,
+            _ => 64 * 1024,
+        }
+    }
+}
+
+/// The glTF seeds: the test worlds as `.glb` (`tests/fixtures/worlds`),
+/// the two small ones also as `.gltf` with the buffer as a data URI (so
+/// that text mutations reach the JSON's structure without breaking the
+/// binary container's lengths), and small hand-written files for what the
+/// test worlds do not use: strips, fans, points, node hierarchies with
+/// matrices and TRS, a mirroring scale, missing normals and indices,
+/// byte strides, a second scene, extensions.
+fn gltf_seeds() -> Vec<Vec<u8>> {
+    let glbs: [&[u8]; 3] = [
+        include_bytes!("../../tests/fixtures/worlds/plane_and_boxes.glb"),
+        include_bytes!("../../tests/fixtures/worlds/sun_room.glb"),
+        include_bytes!("../../tests/fixtures/worlds/atrium.glb"),
+    ];
+    let mut v: Vec<Vec<u8>> = glbs.iter().map(|b| b.to_vec()).collect();
+    v.extend(glbs[..2].iter().filter_map(|b| glb_to_gltf(b)));
+    // One triangle's positions (three f32 vec3), a vec3 of normals and u16
+    // indices 0, 1, 2 (+2 padding), as one buffer.
+    let mut bin = Vec::new();
+    for f in [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0] {
+        bin.extend_from_slice(&f.to_le_bytes());
+    }
+    for f in [0.0f32, 1.0, 0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 0.0] {
+        bin.extend_from_slice(&f.to_le_bytes());
+    }
+    for i in [0u16, 1, 2, 0] {
+        bin.extend_from_slice(&i.to_le_bytes());
+    }
+    let uri = format!(
+        "data:application/octet-stream;base64,{}",
+        base64::encode(&bin)
+    );
+    let buffers = format!(
+        r#""buffers":[{{"byteLength":{},"uri":"{uri}"}}],
+        "bufferViews":[{{"buffer":0,"byteOffset":0,"byteLength":36}},{{"buffer":0,"byteOffset":36,"byteLength":36,"byteStride":12}},{{"buffer":0,"byteOffset":72,"byteLength":6}}],
+        "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3","min":[0,0,0],"max":[1,0,1]}},{{"bufferView":1,"componentType":5126,"count":3,"type":"VEC3"}},{{"bufferView":2,"componentType":5123,"count":3,"type":"SCALAR"}}]"#,
+        bin.len()
+    );
+    let asset = r#""asset":{"version":"2.0"}"#;
+    let files = [
+        // Indexed triangles with normals under a TRS node with a child
+        // under a mirroring matrix; a material with emission strength.
+        format!(
+            r#"{{{asset},{buffers},
+            "extensionsUsed":["KHR_materials_emissive_strength","KHR_texture_transform"],
+            "materials":[{{"pbrMetallicRoughness":{{"baseColorFactor":[0.5,0.5,0.5,1],"metallicFactor":0,"roughnessFactor":0.7}},"emissiveFactor":[1,0.5,0],"extensions":{{"KHR_materials_emissive_strength":{{"emissiveStrength":5}}}}}}],
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0,"NORMAL":1}},"indices":2,"material":0}}]}}],
+            "nodes":[{{"mesh":0,"translation":[1,2,3],"rotation":[0,0.7071068,0,0.7071068],"scale":[2,2,2],"children":[1]}},{{"mesh":0,"matrix":[-1,0,0,0,0,1,0,0,0,0,1,0,0,0,0,1]}}],
+            "scenes":[{{"nodes":[0]}},{{"nodes":[1]}}],"scene":0}}"#
+        ),
+        // Strip, fan and points, without indices or normals; no scene.
+        format!(
+            r#"{{{asset},{buffers},
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}},"mode":5}},{{"attributes":{{"POSITION":0}},"mode":6}},{{"attributes":{{"POSITION":0}},"mode":0}}]}}],
+            "nodes":[{{"mesh":0}}]}}"#
+        ),
+    ];
+    v.extend(files.into_iter().map(String::into_bytes));
+    v
+}
+
+/// A `.glb`'s JSON chunk with its binary chunk moved into the first
+/// buffer as a base64 data URI (a `.gltf`), if it has both chunks.
+fn glb_to_gltf(glb: &[u8]) -> Option<Vec<u8>> {
+    let u32_at = |i: usize| -> Option<usize> {
+        Some(u32::from_le_bytes(glb.get(i..i + 4)?.try_into().ok()?) as usize)
+    };
+    let json_len = u32_at(12)?;
+    let json = glb.get(20..20 + json_len)?;
+    let bin_at = 20 + json_len;
+    let bin = glb.get(bin_at + 8..bin_at + 8 + u32_at(bin_at)?)?;
+    let mut root: serde_json::Value = serde_json::from_slice(json).ok()?;
+    let buffer = root.get_mut("buffers")?.get_mut(0)?.as_object_mut()?;
+    buffer.insert(
+        "uri".into(),
+        format!(
+            "data:application/octet-stream;base64,{}",
+            base64::encode(bin)
+        )
+        .into(),
+    );
+    serde_json::to_vec_pretty(&root).ok()
+}
+
+/// The glTF loader. Invariants of an accepted world (what the renderer
+/// relies on): per mesh as many normals and texture coordinates as
+/// positions, whole triangles, every index below the vertex count, the
+/// material index valid; each material's texture index valid; each
+/// texture's texel count its width × height.
+fn gltf(input: &[u8]) -> Result<String, String> {
+    let r = gltf_io::from_slice(input, "fuzz.glb");
+    if let Ok(w) = &r {
+        for (i, m) in w.meshes.iter().enumerate() {
+            let n = m.positions.len();
+            if m.normals.len() != n || m.uvs.len() != n || m.indices.len() % 3 != 0 {
+                return Err(format!(
+                    "mesh {i}: {n} positions, {} normals, {} uvs, {} indices",
+                    m.normals.len(),
+                    m.uvs.len(),
+                    m.indices.len()
+                ));
+            }
+            if let Some(bad) = m.indices.iter().find(|&&k| k as usize >= n) {
+                return Err(format!("mesh {i}: index {bad} of {n} vertices"));
+            }
+            if m.material >= w.materials.len() {
+                return Err(format!(
+                    "mesh {i}: material {} of {}",
+                    m.material,
+                    w.materials.len()
+                ));
+            }
+        }
+        for (i, m) in w.materials.iter().enumerate() {
+            if m.base_color_texture.is_some_and(|t| t >= w.textures.len()) {
+                return Err(format!(
+                    "material {i}: texture {:?} of {}",
+                    m.base_color_texture,
+                    w.textures.len()
+                ));
+            }
+        }
+        for (i, t) in w.textures.iter().enumerate() {
+            if t.texels.len() as u64 != t.width as u64 * t.height as u64 {
+                return Err(format!(
+                    "texture {i}: {} texels for {}×{}",
+                    t.texels.len(),
+                    t.width,
+                    t.height
+                ));
+            }
+        }
+    }
+    outcome(r)
 }
 
 /// The outcome of a parse: "ok", or the error message without digits and
@@ -410,8 +569,6 @@ pub struct Report {
 
 /// Largest corpus kept; beyond it, new outcomes are counted but not kept.
 const MAX_CORPUS: usize = 4096;
-/// Largest input; longer mutants are cut.
-const MAX_INPUT: usize = 64 * 1024;
 
 /// Runs `inputs` mutated inputs through `target` from `seed`.
 pub fn fuzz(target: Target, inputs: u64, seed: u64) -> Report {
@@ -432,7 +589,7 @@ pub fn fuzz(target: Target, inputs: u64, seed: u64) -> Report {
             for _ in 0..1 + rng.below(4) {
                 mutate_once(&mut rng, &mut input, &other);
             }
-            input.truncate(MAX_INPUT);
+            input.truncate(target.max_input());
         } else {
             input = corpus[k as usize].clone();
         }

@@ -1,6 +1,6 @@
 //! `himmel-fuzz [--inputs N] [--seed S] [TARGET…]`: runs the mutation
 //! fuzzer (see the library docs) on each target (default: all of `time`,
-//! `scene`, `batch`, `hip2`, `d3`) and prints one line per target: inputs
+//! `scene`, `batch`, `hip2`, `d3`, `gltf`) and prints one line per target: inputs
 //! executed, time, distinct outcomes, corpus size, findings. Exits 1 when
 //! anything was found, 2 on bad arguments.
 //!
@@ -28,7 +28,9 @@ fn main() -> ExitCode {
             name => Target::from_name(name)
                 .map(|t| targets.push(t))
                 .ok_or_else(|| {
-                    format!("unknown target '{name}'; expected time, scene, batch, hip2 or d3")
+                    format!(
+                        "unknown target '{name}'; expected time, scene, batch, hip2, d3 or gltf"
+                    )
                 }),
         };
         if let Err(e) = r {
@@ -53,7 +55,15 @@ fn main() -> ExitCode {
             r.finding_count
         );
         for (input, what) in &r.findings {
-            println!("  {input}\n    {what}");
+            // Long inputs (glTF files) cut to their first 400 characters.
+            let shown: String = input.chars().take(400).collect();
+            let more = input.chars().count().saturating_sub(400);
+            let tail = if more > 0 {
+                format!(" … ({more} more characters)")
+            } else {
+                String::new()
+            };
+            println!("  {shown}{tail}\n    {what}");
         }
         found += r.finding_count;
     }

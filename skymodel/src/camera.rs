@@ -95,14 +95,28 @@ pub const AUTO_EV_RANGE: (f64, f64) = (-6.0, 18.0);
 /// EV100 metered from linear sRGB pixels (cd/m²); `valid` marks pixels
 /// that show the scene.
 pub fn meter_ev100(pixels: &[[f32; 3]], valid: &[bool]) -> f64 {
-    let mut sum = 0.0f64;
-    let mut n = 0usize;
-    for (p, &v) in pixels.iter().zip(valid) {
-        if v {
-            sum += (luminance(*p).max(1e-9) as f64).ln();
-            n += 1;
-        }
-    }
+    use rayon::prelude::*;
+    // Fixed chunks on all cores, their sums added in order: the same
+    // result on any number of threads.
+    const CHUNK: usize = 1 << 14;
+    let parts: Vec<(f64, usize)> = pixels
+        .par_chunks(CHUNK)
+        .zip(valid.par_chunks(CHUNK))
+        .map(|(pixels, valid)| {
+            let mut sum = 0.0f64;
+            let mut n = 0usize;
+            for (p, &v) in pixels.iter().zip(valid) {
+                if v {
+                    sum += (luminance(*p).max(1e-9) as f64).ln();
+                    n += 1;
+                }
+            }
+            (sum, n)
+        })
+        .collect();
+    let (sum, n) = parts
+        .iter()
+        .fold((0.0f64, 0usize), |(s, n), &(a, b)| (s + a, n + b));
     let mean = if n > 0 { (sum / n as f64).exp() } else { 1e-9 };
     (mean * 100.0 / 12.5)
         .log2()
@@ -121,8 +135,16 @@ pub fn scotopic_luminance(rgb: [f32; 3]) -> f32 {
 /// Night vision: the mesopic blend of photopic colour and the rod image.
 pub fn night_vision(rgb: [f32; 3]) -> [f32; 3] {
     let y = luminance(rgb);
-    let l = (y.max(1e-12)).log10();
-    let t = ((l + 2.0) / 2.5).clamp(0.0, 1.0);
+    // t = clamp((log10 Y + 2) / 2.5, 0, 1), without the logarithm where
+    // the clamp decides (log10 3.17 = 0.501, log10 0.0099 = −2.004).
+    let t = if y >= 3.17 {
+        1.0
+    } else if y <= 0.0099 {
+        0.0
+    } else {
+        let l = (y.max(1e-12)).log10();
+        ((l + 2.0) / 2.5).clamp(0.0, 1.0)
+    };
     let s = t * t * (3.0 - 2.0 * t);
     if s >= 1.0 {
         return rgb;
@@ -219,16 +241,148 @@ pub fn develop_pixel(
         rgb
     };
     let d = if settings.dither {
-        (BAYER8[y & 7][x & 7] as f32 + 0.5) / 64.0
+        BAYER8[y & 7][x & 7] as usize
+    } else {
+        UNDITHERED
+    };
+    let table = ToneTable::get();
+    [
+        table.quantize(rgb[0] * k, d),
+        table.quantize(rgb[1] * k, d),
+        table.quantize(rgb[2] * k, d),
+    ]
+}
+
+/// The dither offset of Bayer level `d` (0–63), or ½ for [`UNDITHERED`].
+fn dither_offset(d: usize) -> f32 {
+    if d < 64 {
+        (d as f32 + 0.5) / 64.0
     } else {
         0.5
-    };
-    let mut out = [0u8; 3];
-    for c in 0..3 {
-        let v = srgb_encode(aces_filmic(rgb[c] * k));
-        out[c] = (v * 255.0 + d).floor().clamp(0.0, 255.0) as u8;
     }
-    out
+}
+
+/// The dither index of an undithered pixel.
+const UNDITHERED: usize = 64;
+
+/// One exposed channel value `x` through the tone curve, the sRGB
+/// encoding and the 8-bit quantisation with dither offset `d`.
+#[inline]
+pub fn tone_quantize(x: f32, d: f32) -> u8 {
+    let v = srgb_encode(aces_filmic(x));
+    (v * 255.0 + d).floor().clamp(0.0, 255.0) as u8
+}
+
+/// [`tone_quantize`] as a table: for each dither level, the smallest
+/// exposed value that reaches each 8-bit level; counting the thresholds at
+/// or below x costs eight comparisons instead of a power function per
+/// channel. The function is non-decreasing in x except for f32 rounding:
+/// within a few ulps of some thresholds its evaluation steps back and forth
+/// between two levels (110 such steps over all of 10⁻⁶ … 10⁴ for one
+/// dither level, the widest zone 94 ulps). The table is its monotone form:
+/// the same level everywhere else, one level apart inside those zones (NaN
+/// and negative values give 0, as the function does). The test
+/// `tone_table_equals_the_function` checks it around every threshold.
+#[derive(Debug)]
+pub struct ToneTable {
+    /// Per dither index (64 Bayer levels, then [`UNDITHERED`]): the
+    /// threshold of level q at index q − 1; index 255 is never read.
+    thresholds: Vec<[f32; 256]>,
+}
+
+impl ToneTable {
+    /// The table, computed on first use (a few milliseconds, one thread).
+    pub fn get() -> &'static ToneTable {
+        static CELL: std::sync::OnceLock<ToneTable> = std::sync::OnceLock::new();
+        CELL.get_or_init(ToneTable::new)
+    }
+
+    /// Serial on purpose: the first caller may be a rayon task (the PNG
+    /// rows), and a parallel initialiser could then steal another row's
+    /// task on the same thread and re-enter the initialisation.
+    fn new() -> ToneTable {
+        let thresholds = (0..=UNDITHERED)
+            .map(|di| {
+                let d = dither_offset(di);
+                let mut t = [f32::NAN; 256];
+                for q in 1..=255u8 {
+                    t[q as usize - 1] = threshold(q, d);
+                }
+                t
+            })
+            .collect();
+        ToneTable { thresholds }
+    }
+
+    /// [`tone_quantize`]`(x, d)` for dither index `d` (Bayer level 0–63,
+    /// or 64 for no dither).
+    #[inline]
+    pub fn quantize(&self, x: f32, d: usize) -> u8 {
+        let t = &self.thresholds[d.min(UNDITHERED)];
+        // Branch-free binary search: t[..i] ≤ x after each step.
+        let mut i = 0usize;
+        for step in [128, 64, 32, 16, 8, 4, 2, 1] {
+            if t[i + step - 1] <= x {
+                i += step;
+            }
+        }
+        i as u8
+    }
+}
+
+/// The smallest f32 x ≥ 0 with [`tone_quantize`]`(x, d) ≥ q` (NaN if none
+/// up to the tone curve's cap): from the curves' inverses in f64, then
+/// bracketed and bisected on the f32 bit patterns (ordered as the values
+/// for x ≥ 0).
+fn threshold(q: u8, d: f32) -> f32 {
+    let reaches = |b: u32| tone_quantize(f32::from_bits(b), d) >= q;
+    let cap = 1e4f32.to_bits();
+    if !reaches(cap) {
+        return f32::NAN;
+    }
+    if reaches(0) {
+        return 0.0;
+    }
+    // The encoded value g·255 + d ≥ q, decoded (sRGB, then the ACES fit's
+    // quadratic for x).
+    let g = ((q as f64 - d as f64) / 255.0).clamp(0.0, 1.0);
+    let l = if g <= 0.040_45 {
+        g / 12.92
+    } else {
+        ((g + 0.055) / 1.055).powf(2.4)
+    };
+    let (a, b, c) = (2.51 - 2.43 * l, 0.03 - 0.59 * l, -0.14 * l);
+    let guess = if a > 0.0 {
+        (-b + (b * b - 4.0 * a * c).max(0.0).sqrt()) / (2.0 * a)
+    } else {
+        1e4
+    };
+    let start = (guess.clamp(0.0, 1e4) as f32).to_bits();
+    // (lo, hi) with !reaches(lo) and reaches(hi), by doubling steps.
+    let (mut lo, mut hi) = (start, start);
+    let mut step = 1u32;
+    if reaches(start) {
+        while reaches(lo) {
+            hi = lo;
+            lo = start.saturating_sub(step);
+            step = step.saturating_mul(2);
+        }
+    } else {
+        while !reaches(hi) {
+            lo = hi;
+            hi = start.saturating_add(step).min(cap);
+            step = step.saturating_mul(2);
+        }
+    }
+    while hi - lo > 1 {
+        let mid = lo + (hi - lo) / 2;
+        if reaches(mid) {
+            hi = mid;
+        } else {
+            lo = mid;
+        }
+    }
+    f32::from_bits(hi)
 }
 
 /// Develops an HDR image (linear sRGB, cd/m²) into 8-bit sRGB; returns the
@@ -304,6 +458,56 @@ mod tests {
         let n = night_vision(dark);
         // Blue shift: the rod image is bluer than the input.
         assert!(n[2] > n[0]);
+    }
+
+    #[test]
+    fn tone_table_equals_the_function() {
+        // Around every threshold (±256 ulps) and on a log-spaced sweep of
+        // 10⁻⁹ … 10⁵ plus the odd values, for every dither index: the
+        // table gives the function's level, except inside the function's
+        // rounding zones (within 128 ulps of the threshold of the higher
+        // level), where they may be one level apart.
+        let table = ToneTable::get();
+        let mut odd = vec![
+            f32::NAN,
+            -1.0,
+            -0.0,
+            0.0,
+            f32::INFINITY,
+            1e4,
+            1e30,
+            f32::MIN_POSITIVE,
+        ];
+        odd.extend((0..100_000).map(|i| 10f32.powf(-9.0 + 14.0 * i as f32 / 100_000.0)));
+        let (mut tried, mut apart) = (0usize, 0usize);
+        for di in 0..=UNDITHERED {
+            let d = dither_offset(di);
+            let t = &table.thresholds[di][..255];
+            // Every level is reached, in order.
+            assert!(
+                t[0] > 0.0 && t.windows(2).all(|w| w[0] < w[1]),
+                "dither {di}"
+            );
+            let mut xs = odd.clone();
+            for &t in t {
+                let b = t.to_bits();
+                xs.extend((b - 256..=b + 256).map(f32::from_bits));
+            }
+            for x in xs {
+                let (a, b) = (table.quantize(x, di), tone_quantize(x, d));
+                tried += 1;
+                if a != b {
+                    apart += 1;
+                    let near = t[a.max(b) as usize - 1].to_bits().abs_diff(x.to_bits());
+                    assert!(
+                        a.abs_diff(b) == 1 && near <= 128,
+                        "x {x:e}, dither {di}: {a} vs {b}, {near} ulps from the threshold"
+                    );
+                }
+            }
+        }
+        // The zones are rare even right at the thresholds.
+        assert!(apart * 200 < tried, "{apart} of {tried}");
     }
 
     #[test]

@@ -197,6 +197,8 @@ pub struct NightBackground {
     airglow: [f32; 3],
     zodiacal: [f32; 3],
     floor: [f32; 3],
+    /// sin and cos of [`OBLIQUITY_J2000`], once per frame.
+    obliquity_sin_cos: (f32, f32),
 }
 
 fn scaled(rgb: [f32; 3], s10: f64) -> [f32; 3] {
@@ -219,6 +221,7 @@ impl NightBackground {
             ),
             zodiacal: scaled(colour_from_bv(0.65), 1.0),
             floor: scaled(colour_from_bv(0.8), STARLIGHT_FLOOR_S10),
+            obliquity_sin_cos: OBLIQUITY_J2000.sin_cos(),
         }
     }
 
@@ -252,7 +255,7 @@ impl NightBackground {
         let d_true = if d.z < 0.18 { unrefracted(d) } else { d };
         let u = self.enu_to_icrs * d_true;
         let mw = self.map.map_or([0.0; 3], |m| m.radiance(u));
-        let (se, ce) = OBLIQUITY_J2000.sin_cos();
+        let (se, ce) = self.obliquity_sin_cos;
         let zl = zodiacal_s10((-se * u.y + ce * u.z).clamp(-1.0, 1.0));
         let ag = van_rhijn(d.z);
         let mut out = [0.0; 3];

@@ -8,8 +8,11 @@
 //! lines are skipped with a warning, as are extensions other than
 //! `KHR_materials_emissive_strength` (`World::warnings`). Before a byte is
 //! read, every accessor the meshes use is checked against its buffer view
-//! and buffer, and every index against the vertex count, so a truncated or
-//! corrupted file is an error naming the accessor or index, never a panic.
+//! and buffer and against the formats glTF allows for its use, and every
+//! index against the vertex count; a node reached twice (a cycle or a second
+//! parent) is an error. A truncated, corrupted or malformed file is an
+//! error naming the accessor, index or node, never a panic or a hang
+//! (`himmel-fuzz gltf`, `docs/hardening.md`).
 //!
 //! **Export** ([`to_glb`]): one `.glb` with the world's meshes (positions,
 //! normals, texture coordinates, u32 indices; one node per mesh, identity
@@ -54,7 +57,21 @@ fn read(bytes: &[u8], file: &str, base: Option<&Path>) -> Result<World, WorldErr
         kind,
     };
     let parse = |e: gltf::Error| err(WorldErrorKind::Parse(e.to_string()));
-    let gltf::Gltf { document, blob } = gltf::Gltf::from_slice(bytes).map_err(parse)?;
+    // gltf 1.4 subtracts the 12-byte header from a GLB's declared length
+    // unchecked (an overflow panic where overflow checks are on; found by
+    // the fuzz smoke run in the dev profile).
+    let declared = bytes
+        .strip_prefix(b"glTF")
+        .and_then(|b| b.get(4..8))
+        .map(|b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+    if let Some(n) = declared.filter(|&n| n < 12) {
+        return Err(err(WorldErrorKind::Parse(format!(
+            "the GLB header declares {n} bytes, less than the header itself"
+        ))));
+    }
+    let gltf::Gltf { document, blob } =
+        gltf::Gltf::from_slice_without_validation(bytes).map_err(parse)?;
+    let document = validated(document).map_err(&err)?;
     let buffers = gltf::import_buffers(&document, base, blob).map_err(parse)?;
     let mut world = World::default();
     for ext in document.extensions_used() {
@@ -68,8 +85,9 @@ fn read(bytes: &[u8], file: &str, base: Option<&Path>) -> Result<World, WorldErr
     world.materials = document.materials().map(|m| material(&m)).collect();
     let fallback = world.materials.len();
     let mut used_fallback = false;
+    let mut seen = vec![false; document.nodes().len()];
     for (node, transform) in root_nodes(&document) {
-        walk(&node, transform, &mut |n, m| {
+        walk(&node, transform, &mut seen, &mut |n, m| {
             let Some(mesh) = n.mesh() else {
                 return Ok(());
             };
@@ -92,11 +110,33 @@ fn read(bytes: &[u8], file: &str, base: Option<&Path>) -> Result<World, WorldErr
     Ok(world)
 }
 
+/// The document after glTF's validation. Its POSITION check indexes the
+/// accessors unchecked (gltf-json 1.4: a primitive naming an accessor that
+/// does not exist panics; found by `himmel-fuzz gltf`), so those indices
+/// are checked first.
+fn validated(document: gltf::Document) -> Result<gltf::Document, WorldErrorKind> {
+    let root = document.into_json();
+    for (m, mesh) in root.meshes.iter().enumerate() {
+        for (p, prim) in mesh.primitives.iter().enumerate() {
+            let position = prim
+                .attributes
+                .get(&Valid(gltf::Semantic::Positions))
+                .map(|i| i.value());
+            if let Some(a) = position.filter(|&a| a >= root.accessors.len()) {
+                return Err(WorldErrorKind::Parse(format!(
+                    "mesh {m} primitive {p}: POSITION names accessor {a}, which does not exist"
+                )));
+            }
+        }
+    }
+    gltf::Document::from_json(root).map_err(|e| WorldErrorKind::Parse(e.to_string()))
+}
+
 /// The root nodes to walk with their parents' transform: the default
-/// scene's, else every scene's, else every node no other node lists as a
-/// child.
+/// scene's, else every scene's (each node once), else every node no other
+/// node lists as a child.
 fn root_nodes(doc: &gltf::Document) -> Vec<(gltf::Node<'_>, Mat4)> {
-    let nodes: Vec<gltf::Node> = match doc.default_scene() {
+    let mut nodes: Vec<gltf::Node> = match doc.default_scene() {
         Some(s) => s.nodes().collect(),
         None if doc.scenes().len() > 0 => doc.scenes().flat_map(|s| s.nodes()).collect(),
         None => {
@@ -109,36 +149,49 @@ fn root_nodes(doc: &gltf::Document) -> Vec<(gltf::Node<'_>, Mat4)> {
                 .collect()
         }
     };
+    let mut listed = vec![false; doc.nodes().len()];
+    nodes.retain(|n| !std::mem::replace(&mut listed[n.index()], true));
     nodes.into_iter().map(|n| (n, Mat4::IDENTITY)).collect()
 }
 
-/// Calls `f` on `node` and its descendants with their world transforms
-/// (a cycle in the hierarchy stops at 64 levels).
+/// Calls `f` on `node` and its descendants with their world transforms.
+/// `seen` marks the nodes walked so far: a node reached a second time (a
+/// cycle, or a second parent, which glTF forbids) is an error, so that no
+/// hierarchy is walked more than once per node; nesting stops at 64
+/// levels.
 fn walk(
     node: &gltf::Node,
     parent: Mat4,
+    seen: &mut [bool],
     f: &mut dyn FnMut(&gltf::Node, Mat4) -> Result<(), WorldErrorKind>,
 ) -> Result<(), WorldErrorKind> {
     fn go(
         node: &gltf::Node,
         parent: Mat4,
         depth: usize,
+        seen: &mut [bool],
         f: &mut dyn FnMut(&gltf::Node, Mat4) -> Result<(), WorldErrorKind>,
     ) -> Result<(), WorldErrorKind> {
+        let i = node.index();
         if depth > 64 {
             return Err(WorldErrorKind::Parse(format!(
-                "node {} is nested more than 64 levels deep",
-                node.index()
+                "node {i} is nested more than 64 levels deep"
             )));
         }
+        if seen.get(i).copied().unwrap_or(true) {
+            return Err(WorldErrorKind::Parse(format!(
+                "node {i} is reached twice in the node hierarchy (a cycle or a second parent)"
+            )));
+        }
+        seen[i] = true;
         let m = parent * Mat4::from_cols_array_2d(&node.transform().matrix());
         f(node, m)?;
         for c in node.children() {
-            go(&c, m, depth + 1, f)?;
+            go(&c, m, depth + 1, seen, f)?;
         }
         Ok(())
     }
-    go(node, parent, 0, f)
+    go(node, parent, 0, seen, f)
 }
 
 /// Checks that accessor `a` lies within its buffer view and buffer.
@@ -218,12 +271,39 @@ fn primitive(
             p.index()
         ))
     })?;
-    for a in [Some(positions.clone()), p.get(&gltf::Semantic::Normals)]
-        .into_iter()
-        .chain([p.get(&gltf::Semantic::TexCoords(0)), p.indices()])
-        .flatten()
-    {
+    // The formats glTF allows for each use: the reader assumes them (it
+    // panics on an index or texture-coordinate type outside them; found by
+    // `himmel-fuzz gltf`) and reinterprets positions and normals.
+    use gltf::accessor::{DataType as D, Dimensions as V};
+    let uses = [
+        (Some(positions.clone()), "POSITION", &[D::F32][..], V::Vec3),
+        (
+            p.get(&gltf::Semantic::Normals),
+            "NORMAL",
+            &[D::F32],
+            V::Vec3,
+        ),
+        (
+            p.get(&gltf::Semantic::TexCoords(0)),
+            "TEXCOORD_0",
+            &[D::F32, D::U8, D::U16],
+            V::Vec2,
+        ),
+        (p.indices(), "indices", &[D::U8, D::U16, D::U32], V::Scalar),
+    ];
+    for (a, name, types, dims) in uses {
+        let Some(a) = a else { continue };
         check_accessor(&a, buffers)?;
+        if !types.contains(&a.data_type()) || a.dimensions() != dims {
+            return Err(WorldErrorKind::Accessor {
+                accessor: a.index(),
+                message: format!(
+                    "{name} must be {dims:?} of {types:?}, not {:?} of {:?}",
+                    a.dimensions(),
+                    a.data_type()
+                ),
+            });
+        }
     }
     let reader = p.reader(|b| buffers.get(b.index()).map(|d| &d.0[..]));
     let n = positions.count();

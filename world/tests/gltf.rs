@@ -214,3 +214,118 @@ fn no_single_byte_corruption_panics() {
         glb.len()
     );
 }
+
+/// A node hierarchy that is not a forest is an error, found in one walk:
+/// a node that lists itself twice as a child (before, the walk went
+/// 64 levels deep with two branches per level, 2⁶⁴ visits: the fuzzer's
+/// glTF target would hang on it), a cycle of two nodes, and a node with
+/// two parents.
+#[test]
+fn cycles_and_shared_children_are_errors() {
+    let scene = r#""scenes":[{"nodes":[0,1]}]"#;
+    let first = r#""nodes":[{"mesh":0,"#;
+    for (what, scenes, nodes) in [
+        (
+            "self, twice",
+            r#""scenes":[{"nodes":[0]}]"#,
+            r#""nodes":[{"children":[0,0],"mesh":0,"#,
+        ),
+        (
+            "two-node cycle",
+            r#""scenes":[{"nodes":[0]}]"#,
+            r#""nodes":[{"children":[1],"mesh":0,"#,
+        ),
+        (
+            "second parent",
+            scene,
+            r#""nodes":[{"children":[1],"mesh":0,"#,
+        ),
+    ] {
+        let mut text = transformed_gltf()
+            .replace(scene, scenes)
+            .replace(first, nodes);
+        if what == "two-node cycle" {
+            text = text.replace(
+                r#"{"mesh":0,"scale""#,
+                r#"{"children":[0],"mesh":0,"scale""#,
+            );
+        }
+        let t = std::time::Instant::now();
+        let e = from_slice(text.as_bytes(), "nodes.gltf").unwrap_err();
+        assert!(e.to_string().contains("reached twice"), "{what}: {e}");
+        assert!(t.elapsed().as_secs_f64() < 1.0, "{what}");
+    }
+    // The same node listed by two scenes (no default scene) is drawn once.
+    let text = transformed_gltf()
+        .replace(r#""scene":0,"#, "")
+        .replace(scene, r#""scenes":[{"nodes":[0,1]},{"nodes":[1]}]"#);
+    let w = from_slice(text.as_bytes(), "scenes.gltf").unwrap();
+    assert_eq!(w.meshes.len(), 2);
+}
+
+/// A primitive whose POSITION names an accessor that does not exist is an
+/// error (glTF's own validation indexed the accessors unchecked and
+/// panicked; found by `himmel-fuzz gltf`).
+#[test]
+fn a_missing_position_accessor_is_an_error() {
+    for position in ["3", "99"] {
+        let text =
+            transformed_gltf().replace(r#""POSITION":0"#, &format!(r#""POSITION":{position}"#));
+        let e = from_slice(text.as_bytes(), "position.gltf").unwrap_err();
+        assert!(
+            e.to_string()
+                .contains(&format!("POSITION names accessor {position}")),
+            "{e}"
+        );
+    }
+}
+
+/// Accessors whose format glTF does not allow for their use are errors
+/// naming the accessor: float indices, signed texture coordinates (the
+/// reader panicked on both; found by `himmel-fuzz gltf`), byte positions.
+#[test]
+fn accessor_formats_are_checked() {
+    let with_uvs = transformed_gltf().replace(r#""NORMAL":1}"#, r#""NORMAL":1,"TEXCOORD_0":3}"#);
+    let with_uvs = with_uvs.replace(
+        r#"{"bufferView":2,"componentType":5125,"count":3,"type":"SCALAR"}]"#,
+        r#"{"bufferView":2,"componentType":5125,"count":3,"type":"SCALAR"},{"bufferView":1,"componentType":5122,"count":3,"type":"VEC2"}]"#,
+    );
+    let cases = [
+        (
+            transformed_gltf().replace(
+                r#""componentType":5125,"count":3,"type":"SCALAR""#,
+                r#""componentType":5126,"count":3,"type":"SCALAR""#,
+            ),
+            "indices must be Scalar",
+        ),
+        (with_uvs, "TEXCOORD_0 must be Vec2"),
+        (
+            transformed_gltf().replace(
+                r#""componentType":5126,"count":3,"type":"VEC3","min""#,
+                r#""componentType":5121,"count":3,"type":"VEC3","min""#,
+            ),
+            "POSITION must be Vec3 of [F32]",
+        ),
+    ];
+    for (text, expected) in cases {
+        let e = from_slice(text.as_bytes(), "format.gltf").unwrap_err();
+        assert!(e.to_string().contains(expected), "{e}");
+    }
+}
+
+/// A GLB whose header declares fewer bytes than the 12-byte header is an
+/// error (the gltf crate subtracted unchecked: an overflow panic with
+/// overflow checks on; found by the fuzz smoke run in the dev profile).
+#[test]
+fn a_glb_shorter_than_its_header_is_an_error() {
+    let glb = to_glb(&procedural::plane_and_boxes());
+    for n in [0u32, 11] {
+        let mut c = glb.clone();
+        c[8..12].copy_from_slice(&n.to_le_bytes());
+        let e = from_slice(&c, "short.glb").unwrap_err();
+        assert!(
+            e.to_string().contains(&format!("declares {n} bytes")),
+            "{e}"
+        );
+    }
+}

@@ -12,6 +12,7 @@
 
 use glam::Vec3;
 
+use super::march::ViewMarch;
 use super::medium::{clamp_cosine, cornette_shanks_phase, rayleigh_phase, safe_sqrt, Medium};
 use super::params::{AtmosphereParams, LutConfig};
 use crate::spectrum::{BandWeights, Spectrum, BANDS};
@@ -483,98 +484,6 @@ pub struct SkyViewInput {
     pub irradiance_scale: f32,
 }
 
-/// The phase functions of one view ray (they depend only on the angle
-/// between the view and the light).
-#[derive(Debug, Clone, Copy)]
-struct ScatterPhases {
-    pr: f32,
-    pm: f32,
-    pm_flat: f32,
-}
-
-impl ScatterPhases {
-    fn new(luts: &AtmosphereLuts, cos_theta: f32) -> Self {
-        let m = &luts.medium;
-        let pr = rayleigh_phase(cos_theta);
-        let pm = cornette_shanks_phase(m.g, cos_theta);
-        // Within the δ-scaled forward cone the aerosol phase function is
-        // flattened (that light already travels in the δ-scaled beam); the
-        // peak above the flat part is single scattering of the true beam.
-        let cone = luts.config.forward_peak_deg.to_radians().cos();
-        let pm_flat = if luts.config.forward_peak_deg > 0.0 && cos_theta > cone {
-            cornette_shanks_phase(m.g, cone)
-        } else {
-            pm
-        };
-        ScatterPhases { pr, pm, pm_flat }
-    }
-
-    /// The δ-scaled extinction and the in-scattering source (single
-    /// scattering of the beam plus Ψ_ms multiple scattering) at point `p`
-    /// (planet-centred, km) lit from `sun`.
-    #[inline]
-    fn source(&self, luts: &AtmosphereLuts, p: Vec3, sun: Vec3) -> (Spectrum, Spectrum) {
-        let m = &luts.medium;
-        let fwd = luts.forward;
-        let ScatterPhases { pr, pm, pm_flat } = *self;
-        let rp = p.length();
-        let mus = p.dot(sun) / rp;
-        let dens = m.densities(rp);
-        let (sr, sm) = m.scattering(dens);
-        let ext = m.extinction(dens) - fwd * dens.mie;
-        let tsun = luts.scattering_sun_transmittance(rp, mus);
-        let psi = luts.multiscatter_at(rp, mus);
-        let mut src = (sr * pr + sm * pm_flat) * tsun + (sr + sm - fwd * dens.mie) * psi;
-        if pm > pm_flat {
-            src += sm * (pm - pm_flat) * luts.sun_transmittance(rp, mus);
-        }
-        (ext, src)
-    }
-}
-
-/// Aerial perspective along one view ray: the in-scattered radiance
-/// transfer (band radiance per unit solar irradiance, sr⁻¹) and the
-/// transmittance from the observer at radius `r0` (km) in local direction
-/// `view` (z up) to each distance of `ends` (km, ascending), with the light
-/// at `sun`. The same integrand as the sky view ([`SkyView::transfer`]),
-/// marched in `steps_per_end` equal steps per interval between ends and
-/// clipped where the ray meets the ground or leaves the atmosphere
-/// (Hillaire 2020 §5.5 computes this per froxel).
-pub fn aerial_perspective(
-    luts: &AtmosphereLuts,
-    r0: f32,
-    view: Vec3,
-    sun: Vec3,
-    ends: &[f32],
-    steps_per_end: usize,
-) -> Vec<(Spectrum, Spectrum)> {
-    let pos = Vec3::new(0.0, 0.0, r0);
-    let (t_max, _) = luts.medium.ray_end(r0, view.z);
-    let phases = ScatterPhases::new(luts, view.dot(sun));
-    let mut tv = Spectrum::ONE;
-    let mut l = Spectrum::ZERO;
-    let mut t0 = 0.0f32;
-    let n = steps_per_end.max(1);
-    ends.iter()
-        .map(|&end| {
-            let t1 = end.clamp(t0, t_max.max(t0));
-            let dt = (t1 - t0) / n as f32;
-            for s in 0..n {
-                if dt <= 0.0 {
-                    break;
-                }
-                let t = t0 + (s as f32 + 0.5) * dt;
-                let (ext, src) = phases.source(luts, pos + view * t, sun);
-                let seg = (ext * dt).exp_neg();
-                l += tv * src * integrate_segment(ext, seg, dt);
-                tv *= seg;
-            }
-            t0 = t1;
-            (l, tv)
-        })
-        .collect()
-}
-
 impl SkyView {
     /// Radiance transfer factor (band radiance per unit solar irradiance,
     /// sr⁻¹) along one view ray from radius `r0` with local direction
@@ -586,40 +495,7 @@ impl SkyView {
         sun: Vec3,
         steps: usize,
     ) -> Spectrum {
-        let m = &luts.medium;
-        let pos = Vec3::new(0.0, 0.0, r0);
-        let mu = view.z;
-        let (t_max, ground) = m.ray_end(r0, mu);
-        let ScatterPhases { pr, pm, pm_flat } = ScatterPhases::new(luts, view.dot(sun));
-        // Fewer steps on short rays: `steps` for the horizontal ray, scaled
-        // by √(length / horizontal length), at least 20 (Hillaire 2020 §5
-        // also scales the sample count with the ray length).
-        let t_h = m.distance_to_top(r0, 0.0).max(1e-3);
-        let n = ((steps as f32 * (t_max / t_h).sqrt()).ceil() as usize).clamp(steps.min(20), steps);
-        let mut tv = Spectrum::ONE;
-        let mut l = Spectrum::ZERO;
-        let mut t_prev = 0.0f32;
-        for s in 0..n {
-            // Quadratic spacing: short steps near the observer, where the
-            // air is densest along near-horizontal rays.
-            let x = (s as f32 + 1.0) / n as f32;
-            let t_next = t_max * x * x;
-            let dt = t_next - t_prev;
-            let t = 0.5 * (t_prev + t_next);
-            t_prev = t_next;
-            let (ext, src) = ScatterPhases { pr, pm, pm_flat }.source(luts, pos + view * t, sun);
-            let seg = (ext * dt).exp_neg();
-            l += tv * src * integrate_segment(ext, seg, dt);
-            tv *= seg;
-        }
-        if ground {
-            let pg = pos + view * t_max;
-            let rg = pg.length();
-            let mug = pg.dot(sun) / rg;
-            let tsun = luts.scattering_sun_transmittance(rg, mug);
-            l += tv * tsun * (mug.max(0.0) * m.albedo / std::f32::consts::PI);
-        }
-        l
+        ViewMarch::new(luts, r0, view.z, steps).transfer(luts, r0, view.dot(sun), sun.z)
     }
 
     /// Local view direction of a sky-view texel centre (z up, Sun in the x–z plane).
@@ -647,11 +523,15 @@ impl SkyView {
                 .clamp(0.0, luts.medium.top - luts.medium.bottom - 0.01);
         let sun = Self::sun_local(input.sun_sin_elevation);
         let v = (j as f32 + 0.5) / h as f32;
+        // The row's elevation, hence its view ray's march, is shared by
+        // every azimuth.
+        let mu = Self::texel_direction(0.5, v, w, h).z;
+        let march = ViewMarch::new(luts, r0, mu, cfg.sky_view_steps);
         (0..w)
             .map(|i| {
                 let u = (i as f32 + 0.5) / w as f32;
                 let d = Self::texel_direction(u, v, w, h);
-                let f = Self::transfer(luts, r0, d, sun, cfg.sky_view_steps);
+                let f = march.transfer(luts, r0, d.dot(sun), sun.z);
                 let rgb = crate::spectrum::clip_to_gamut(weights.to_rgb(&f));
                 [
                     rgb[0] * input.irradiance_scale,
@@ -734,12 +614,26 @@ impl SkyView {
         if dir.z < 0.0 {
             return self.ground_rgb;
         }
+        self.radiance_at_row(dir, sun, self.row_coordinate(dir))
+    }
+
+    /// The table's v coordinate of an ENU view direction above the horizon:
+    /// the part of [`Self::radiance`] that does not depend on the Sun, the
+    /// same for every sky view of one LUT configuration.
+    #[inline]
+    pub fn row_coordinate(&self, dir: Vec3) -> f32 {
         let e = dir.z.min(1.0).asin();
+        tex_from_unit((e / std::f32::consts::FRAC_PI_2).sqrt(), self.lut.h)
+    }
+
+    /// [`Self::radiance`] above the horizon with the direction's
+    /// [`Self::row_coordinate`] `v` given.
+    #[inline]
+    pub fn radiance_at_row(&self, dir: Vec3, sun: Vec3, v: f32) -> [f32; 3] {
         let cross = dir.x * sun.y - dir.y * sun.x;
         let dot = dir.x * sun.x + dir.y * sun.y;
         let az = cross.abs().atan2(dot);
         let u = tex_from_unit(az / std::f32::consts::PI, self.lut.w);
-        let v = tex_from_unit((e / std::f32::consts::FRAC_PI_2).sqrt(), self.lut.h);
         self.lut.sample_rgb(u, v)
     }
 }

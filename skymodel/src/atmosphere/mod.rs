@@ -5,7 +5,8 @@
 //! * [`medium`] — density profiles, spectral coefficients, phase functions,
 //!   spherical geometry;
 //! * [`lut`] — Hillaire (2020) transmittance, multiple-scattering and
-//!   sky-view LUTs;
+//!   sky-view LUTs; `march` — their view-ray march (the sky view's rows,
+//!   [`aerial_perspective`]);
 //! * [`mod@reference`] — the brute-force reference (ray marching + Monte-Carlo
 //!   orders ≥ 2), for tests and the accuracy table.
 //!
@@ -17,10 +18,12 @@
 //! against the brute-force reference.
 
 pub mod lut;
+mod march;
 pub mod medium;
 pub mod params;
 pub mod reference;
 
-pub use lut::{aerial_perspective, AtmosphereLuts, Lut2, SkyView, SkyViewInput};
+pub use lut::{AtmosphereLuts, Lut2, SkyView, SkyViewInput};
+pub use march::aerial_perspective;
 pub use medium::Medium;
 pub use params::{AtmosphereParams, LutConfig, ParamError};

@@ -114,12 +114,23 @@ impl SkyLight {
     /// ground's luminance below the horizon.
     #[inline]
     pub fn radiance(&self, dir: Vec3) -> [f32; 3] {
-        let mut l = self.sun.radiance(dir, self.sun_dir);
-        if let Some((sv, m)) = &self.moon {
-            let k = sv.radiance(dir, *m);
-            for c in 0..3 {
-                l[c] += k[c];
-            }
+        let Some((sv, m)) = &self.moon else {
+            return self.sun.radiance(dir, self.sun_dir);
+        };
+        if dir.z < 0.0 {
+            let (a, b) = (self.sun.ground_rgb, sv.ground_rgb);
+            return [a[0] + b[0], a[1] + b[1], a[2] + b[2]];
+        }
+        // Both views share the elevation's lookup when they have one size.
+        let v = self.sun.row_coordinate(dir);
+        let mut l = self.sun.radiance_at_row(dir, self.sun_dir, v);
+        let k = if sv.lut.h == self.sun.lut.h {
+            sv.radiance_at_row(dir, *m, v)
+        } else {
+            sv.radiance(dir, *m)
+        };
+        for c in 0..3 {
+            l[c] += k[c];
         }
         l
     }
