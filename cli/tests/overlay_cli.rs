@@ -2,25 +2,16 @@
 //! the EXR, and a bad list exits 2 naming the flag.
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
+
+mod common;
 
 fn himmel(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_himmel"))
-        .args(args)
-        .env("HIMMEL_CACHE_DIR", "")
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let (code, _, err) = common::run(args);
+    (code, err)
 }
 
 fn dir(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("himmel-overlay-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("himmel-overlay", name)
 }
 
 /// Munich, 15 January 2024, 22:00 CET, 96 × 96 fisheye, a fixed exposure.

@@ -3,24 +3,12 @@
 
 use std::process::Command;
 
-fn himmel(args: &[&str]) -> (i32, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_himmel"))
-        .args(args)
-        .env("HIMMEL_CACHE_DIR", "")
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+mod common;
+
+use common::run as himmel;
 
 fn tmp(name: &str) -> String {
-    std::env::temp_dir()
-        .join(format!("himmel-cli-{}-{name}", std::process::id()))
-        .to_string_lossy()
-        .into_owned()
+    common::tmp_path("himmel-cli", name)
 }
 
 const BASE: [&str; 6] = [

@@ -2,28 +2,18 @@
 //! outside: the converted file's size and mean, exit codes and one-line
 //! errors that name the file or flag.
 
-use std::process::Command;
-
 use himmel_cpu::texture_io::{read_texture, write_texture};
 use himmel_skymodel::texture_sky::{mean_radiance, LinearImage, Mapping};
 
+mod common;
+
 fn himmel(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_himmel"))
-        .args(args)
-        .env("HIMMEL_CACHE_DIR", "")
-        .output()
-        .unwrap();
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let (code, _, err) = common::run(args);
+    (code, err)
 }
 
 fn tmp(name: &str) -> String {
-    std::env::temp_dir()
-        .join(format!("himmel-texcli-{}-{name}", std::process::id()))
-        .to_string_lossy()
-        .into_owned()
+    common::tmp_path("himmel-texcli", name)
 }
 
 /// A 128 × 64 equirect gradient (cd/m²).

@@ -4,26 +4,15 @@
 //! file's `world.gltf` is relative to the scene file; `wgpu` and `auto`
 //! render the world (lavapipe here) and `--stats` reports its passes.
 
-use std::process::Command;
+mod common;
 
 fn himmel(args: &[&str]) -> (i32, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_himmel"))
-        .args(args)
-        .env("HIMMEL_CACHE_DIR", "")
-        .env("NODEVICE_SELECT", "1")
-        .output()
-        .expect("run himmel");
-    (
-        out.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    let (code, _, err) = common::run(args);
+    (code, err)
 }
 
 fn dir(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("himmel-world-cli-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::fresh_dir("himmel-world-cli", name)
 }
 
 fn render(world: &str, backend: &str) -> (i32, String) {
