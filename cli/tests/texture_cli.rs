@@ -12,6 +12,22 @@ fn himmel(args: &[&str]) -> (i32, String) {
     (code, err)
 }
 
+/// `himmel render` at a fixed instant and place (Munich, morning) with
+/// `extra` flags.
+fn render(extra: &[&str]) -> (i32, String) {
+    let mut a = vec![
+        "render",
+        "--time",
+        "2024-06-21T10:00:00Z",
+        "--lat",
+        "48",
+        "--lon",
+        "11",
+    ];
+    a.extend_from_slice(extra);
+    himmel(&a)
+}
+
 fn tmp(name: &str) -> String {
     common::tmp_path("himmel-texcli", name)
 }
@@ -59,14 +75,7 @@ fn convert_writes_a_cube_map_with_the_same_mean() {
     assert!((b[0] / a[0] - 1.0).abs() < 0.005, "{} vs {}", b[0], a[0]);
     // Rendering with it runs the texture pass.
     let png = tmp("sky.png");
-    let (code, err) = himmel(&[
-        "render",
-        "--time",
-        "2024-06-21T10:00:00Z",
-        "--lat",
-        "48",
-        "--lon",
-        "11",
+    let (code, err) = render(&[
         "--width",
         "32",
         "--height",
@@ -101,14 +110,7 @@ fn bad_textures_and_flags_exit_2_naming_them() {
     // A strip of the wrong aspect as a cube.
     let src = tmp("wide.exr");
     write_texture(std::path::Path::new(&src), &pano()).unwrap();
-    let (code, err) = himmel(&[
-        "render",
-        "--time",
-        "2024-06-21T10:00:00Z",
-        "--lat",
-        "48",
-        "--lon",
-        "11",
+    let (code, err) = render(&[
         "--width",
         "16",
         "--height",
@@ -140,19 +142,9 @@ fn bad_textures_and_flags_exit_2_naming_them() {
             "--sky-blend (sky_texture.blend): 2 is outside [0, 1]",
         ),
     ] {
-        let mut a = vec![
-            "render",
-            "--time",
-            "2024-06-21T10:00:00Z",
-            "--lat",
-            "48",
-            "--lon",
-            "11",
-            "--output",
-            "x.png",
-        ];
+        let mut a = vec!["--output", "x.png"];
         a.extend(args);
-        let (code, err) = himmel(&a);
+        let (code, err) = render(&a);
         assert_eq!(code, 2, "{a:?}: {err}");
         assert!(err.contains(want), "{a:?}: {err}");
     }
