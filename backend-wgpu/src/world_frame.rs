@@ -251,7 +251,13 @@ impl WgpuRenderer {
         let frame = self.render_frame(&s, &st)?;
         let cube = self.read_back(&frame)?;
         let bodies: Vec<Vec3> = bodies.iter().flatten().copied().collect();
-        Ok(EnvLight::from_cube(&cube, dirs, sets, &bodies))
+        Ok(EnvLight::from_cube(
+            &cube,
+            dirs,
+            sets,
+            &bodies,
+            scene.lighting.sky.parts as usize,
+        ))
     }
 
     /// The aerial perspective over the camera's view, out to the farthest

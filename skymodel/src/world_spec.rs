@@ -173,6 +173,12 @@ pub struct SkyLightSettings {
     /// whole world, and a texel of a tenth of a metre or less keeps the
     /// sky that a box hides from the floor beside it).
     pub visibility_resolution: u32,
+    /// Parts per cell, in [1, 64] (default 16): each cell's sky is cut into
+    /// about this many parts, each looked up in the cell's visibility map
+    /// where its rays cross the cell's blockers, so that an opening (a
+    /// window) lets through the part of a cell it frames rather than the
+    /// whole cell or none of it; 1 = one lookup along the cell's direction.
+    pub parts: u32,
     /// The environment light is rebuilt when the Sun or Moon moved more
     /// than this, degrees, in [0, 10] (default 0.05; 0 = every frame).
     pub reuse_tolerance_deg: f64,
@@ -185,6 +191,7 @@ impl Default for SkyLightSettings {
             directions: 64,
             interleave: 4,
             visibility_resolution: 512,
+            parts: 16,
             reuse_tolerance_deg: 0.05,
         }
     }
@@ -229,6 +236,7 @@ impl LightingSpec {
                 64.0,
                 4096.0,
             ),
+            ("lighting.sky.parts", k.parts as f64, 1.0, 64.0),
             (
                 "lighting.sky.reuse_tolerance_deg",
                 k.reuse_tolerance_deg,

@@ -61,6 +61,27 @@ pub struct SkyCell {
     pub moment: [Vec3; 3],
     /// The cell's solid angle, sr.
     pub solid_angle: f32,
+    /// Its parts: `EnvLight::parts[first..first + count]`.
+    pub first_part: u32,
+    /// The number of its parts.
+    pub parts: u32,
+    /// The largest tangent of the angle between `dir` and a direction of
+    /// the cell (the cone that holds it).
+    pub tan_radius: f32,
+}
+
+/// A part of a sky cell: a few of its cube texels, whose visibility the
+/// lighting pass reads from the cell's map where the part's rays cross
+/// the cell's blockers (a parallax offset), so that a window edge cuts
+/// through a cell instead of switching it whole.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CellPart {
+    /// The part's mean direction ω as a step across the cell's map per
+    /// metre along its direction: (ω·right, ω·up) / (ω·dir), with (right,
+    /// up) the map's axes ([`super::view::light_basis`]).
+    pub offset: [f32; 2],
+    /// ∫ L ω dω over the part per channel, with the cell's weight.
+    pub moment: [Vec3; 3],
 }
 
 /// Radius of the sky around the Sun or Moon cut into the aureole's own
@@ -103,6 +124,8 @@ pub struct EnvLight {
     pub sets: usize,
     /// The aureoles' cells after them ([`AUREOLE_DIRECTIONS`] a body).
     pub aureole_cells: usize,
+    /// The cells' parts, cell after cell ([`SkyCell::first_part`]).
+    pub parts: Vec<CellPart>,
     /// SH9 coefficients of the radiance, per channel (order l ≤ 2).
     pub sh9: [[f32; 9]; 3],
     /// Horizontal illuminance from the upper hemisphere, linear sRGB lux.
@@ -169,8 +192,15 @@ impl EnvLight {
     /// directions; any other to the nearest direction of its own
     /// hemisphere among all of `dirs` (dropped when its hemisphere has
     /// none), whose moment and solid angle count `sets` times (a pixel sums
-    /// one set).
-    pub fn from_cube(cube: &HdrImage, dirs: &[Vec3], sets: usize, bodies: &[Vec3]) -> EnvLight {
+    /// one set). Each cell is cut into about `parts` parts ([`CellPart`]):
+    /// its texels grouped on a square grid across its direction.
+    pub fn from_cube(
+        cube: &HdrImage,
+        dirs: &[Vec3],
+        sets: usize,
+        bodies: &[Vec3],
+        parts: usize,
+    ) -> EnvLight {
         let sets = sets.max(1);
         let weight = sets as f32;
         let texels = cube_texels(cube);
@@ -184,6 +214,9 @@ impl EnvLight {
                 dir,
                 moment: [Vec3::ZERO; 3],
                 solid_angle: 0.0,
+                first_part: 0,
+                parts: 0,
+                tan_radius: 0.0,
             })
             .collect();
         let mut sh9 = [[0.0f32; 9]; 3];
@@ -209,7 +242,7 @@ impl EnvLight {
                     .or_else(|| nearest(0..regular).map(|k| (k, weight)))
             })
             .collect();
-        for (&(w, sa, l), best) in texels.iter().zip(assigned) {
+        for (&(w, sa, l), &best) in texels.iter().zip(&assigned) {
             max_radiance = max_radiance.max(l[0].max(l[1]).max(l[2]));
             let up = w.y >= 0.0;
             if let Some((k, f)) = best {
@@ -229,11 +262,13 @@ impl EnvLight {
                 }
             }
         }
+        let parts = cut_into_parts(&mut cells, &texels, &assigned, parts);
         let specular = prefilter(&texels, cube.height);
         EnvLight {
             cells,
             sets,
             aureole_cells: aureoles.len(),
+            parts,
             sh9,
             horizontal_rgb: horizontal,
             specular,
@@ -278,12 +313,88 @@ impl EnvLight {
             } else {
                 1.0
             };
+            let parts = &self.parts[c.first_part as usize..(c.first_part + c.parts) as usize];
             for ch in 0..3 {
-                e[ch] += f * v * n.dot(c.moment[ch]).max(0.0);
+                let part_sum: f32 = parts.iter().map(|p| n.dot(p.moment[ch]).max(0.0)).sum();
+                e[ch] += f * v * part_sum;
             }
         }
         e
     }
+}
+
+/// Cuts each cell into parts: its texels (`assigned` to it with their
+/// weight) grouped on a square grid in the plane across the cell's
+/// direction, of about `per_cell` squares over the cell's solid angle (one
+/// part a cell when `per_cell` ≤ 1). Fills the cells' part ranges and
+/// cone radii; returns the parts, cell after cell.
+fn cut_into_parts(
+    cells: &mut [SkyCell],
+    texels: &[(Vec3, f32, [f32; 3])],
+    assigned: &[Option<(usize, f32)>],
+    per_cell: usize,
+) -> Vec<CellPart> {
+    struct Acc {
+        sa: f32,
+        ab: [f32; 2],
+        moment: [Vec3; 3],
+    }
+    let bases: Vec<(Vec3, Vec3)> = cells
+        .iter()
+        .map(|c| super::view::light_basis(c.dir))
+        .collect();
+    // The cells' own solid angles (without the sets' weight) set the grid.
+    let mut own = vec![0.0f32; cells.len()];
+    for (&(_, sa, _), best) in texels.iter().zip(assigned) {
+        if let Some((k, _)) = *best {
+            own[k] += sa;
+        }
+    }
+    let mut groups: std::collections::BTreeMap<(usize, i32, i32), Acc> = Default::default();
+    for (&(w, sa, l), best) in texels.iter().zip(assigned) {
+        let Some((k, f)) = *best else {
+            continue;
+        };
+        let c = &mut cells[k];
+        let (right, up) = bases[k];
+        let along = w.dot(c.dir).max(0.05);
+        let ab = [w.dot(right) / along, w.dot(up) / along];
+        c.tan_radius = c.tan_radius.max(ab[0].hypot(ab[1]));
+        let key = if per_cell <= 1 {
+            (k, 0, 0)
+        } else {
+            let pitch = (own[k] / per_cell as f32).sqrt().max(1e-6);
+            (
+                k,
+                (ab[0] / pitch).floor() as i32,
+                (ab[1] / pitch).floor() as i32,
+            )
+        };
+        let g = groups.entry(key).or_insert(Acc {
+            sa: 0.0,
+            ab: [0.0; 2],
+            moment: [Vec3::ZERO; 3],
+        });
+        g.sa += sa;
+        g.ab[0] += ab[0] * sa;
+        g.ab[1] += ab[1] * sa;
+        for ch in 0..3 {
+            g.moment[ch] += w * (l[ch] * sa * f);
+        }
+    }
+    let mut parts = Vec::with_capacity(groups.len());
+    for ((k, _, _), g) in groups {
+        let c = &mut cells[k];
+        if c.parts == 0 {
+            c.first_part = parts.len() as u32;
+        }
+        c.parts += 1;
+        parts.push(CellPart {
+            offset: [g.ab[0] / g.sa, g.ab[1] / g.sa],
+            moment: g.moment,
+        });
+    }
+    parts
 }
 
 /// The nine real SH basis functions (l ≤ 2) at unit `d`.
@@ -464,7 +575,7 @@ mod tests {
                 [0.0; 3]
             }
         });
-        let env = EnvLight::from_cube(&c, &hemisphere_directions(40, true), 1, &[]);
+        let env = EnvLight::from_cube(&c, &hemisphere_directions(40, true), 1, &[], 16);
         // The default layout, 16 interleaved sets of 32 directions a
         // hemisphere: their average is the quadrature over all the
         // directions; each alone (one pixel of the block) estimates it to
@@ -472,7 +583,7 @@ mod tests {
         // the block's average removes that spread where the surface
         // continues).
         let sets = crate::passes::lighting::view::direction_sets(32, true, 16);
-        let env16 = EnvLight::from_cube(&c, &sets, 16, &[]);
+        let env16 = EnvLight::from_cube(&c, &sets, 16, &[], 16);
         let e = env16.cell_irradiance(Vec3::Y, |_| 1.0);
         assert!(
             (e[1] / (std::f32::consts::PI * 1000.0) - 1.0).abs() < 2e-3,
@@ -527,7 +638,7 @@ mod tests {
             }
         });
         let dirs = crate::passes::lighting::view::direction_sets(32, true, 16);
-        let env = EnvLight::from_cube(&c, &dirs, 16, &[]);
+        let env = EnvLight::from_cube(&c, &dirs, 16, &[], 16);
         let exact = |n: Vec3| -> f32 {
             cube_texels(&c)
                 .iter()
@@ -535,7 +646,7 @@ mod tests {
                 .sum()
         };
         // With the spot's body given, its aureole cells take the spot.
-        let with_aureole = EnvLight::from_cube(&c, &dirs, 16, &[body]);
+        let with_aureole = EnvLight::from_cube(&c, &dirs, 16, &[body], 16);
         assert_eq!(with_aureole.aureole_cells, AUREOLE_DIRECTIONS);
         for n in [
             Vec3::new(0.0, 0.6, -0.8),

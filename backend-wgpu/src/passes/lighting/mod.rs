@@ -405,6 +405,7 @@ impl LightingPasses {
                 wgpu::BindingResource::Sampler(&pipes.clamp),
                 tv(&tables.air_in),
                 tv(&tables.air_t),
+                tables.parts.as_entire_binding(),
             ],
         );
         let sky_out = bind_group(

@@ -48,7 +48,7 @@ pub struct Pipelines {
     pub sky_out_layout: wgpu::BindGroupLayout,
     /// Group 1 of the lighting pass: the sky pass's outputs as textures.
     pub sky_in_layout: wgpu::BindGroupLayout,
-    /// Its group 0 (shade.wgsl's bindings 0–16).
+    /// Its group 0 (shade.wgsl's bindings 0–17).
     pub shade_layout: wgpu::BindGroupLayout,
     /// Trilinear, repeating (base colour).
     pub repeat: wgpu::Sampler,
@@ -304,6 +304,7 @@ fn layouts(
             ),
             entry(15, c, texture(float, D::D3)),
             entry(16, c, texture(float, D::D3)),
+            entry(17, c, buffer(STORAGE_RO, false)),
         ],
     );
     (gbuffer_layout, depth_layout, shade_layout)

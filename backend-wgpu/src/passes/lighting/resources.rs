@@ -425,6 +425,18 @@ fn clear_depth(gpu: &Gpu, tex: &wgpu::Texture) -> Result<(), RenderError> {
     gpu.wait()
 }
 
+/// A read-only storage buffer of `rows` (one zero row when there are none:
+/// a binding cannot be empty).
+fn storage<const N: usize>(gpu: &Gpu, label: &str, rows: &[[f32; N]]) -> wgpu::Buffer {
+    let zero = [[0.0f32; N]];
+    gpu.device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some(label),
+            contents: bytemuck::cast_slice(if rows.is_empty() { &zero } else { rows }),
+            usage: wgpu::BufferUsages::STORAGE,
+        })
+}
+
 /// Screen cells × distance slices of the aerial-perspective table.
 pub const AIR_GRID: (u32, u32, u32) = (32, 18, 32);
 
@@ -432,6 +444,8 @@ pub const AIR_GRID: (u32, u32, u32) = (32, 18, 32);
 pub struct ShadeTables {
     /// The sky cells (`SkyCell` in shade.wgsl).
     pub cells: wgpu::Buffer,
+    /// Their parts (`CellPart` in shade.wgsl).
+    pub parts: wgpu::Buffer,
     /// The prefiltered environment (equirect, one layer per roughness),
     /// rgba16float scaled by 1 / `env_scale`.
     pub specular: wgpu::TextureView,
@@ -514,12 +528,8 @@ impl ShadeTables {
             })
         };
         ShadeTables {
-            cells: gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("sky cells"),
-                size: 64,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: false,
-            }),
+            cells: storage::<20>(gpu, "sky cells", &[]),
+            parts: storage::<12>(gpu, "sky cell parts", &[]),
             specular: view(&specular_tex, wgpu::TextureViewDimension::D2Array),
             specular_tex,
             brdf: view(&brdf_tex, wgpu::TextureViewDimension::D2),
@@ -544,31 +554,36 @@ impl ShadeTables {
     /// Uploads the sky cells (with their visibility maps' texel size, m)
     /// and the prefiltered environment (when `specular`).
     pub fn upload_env(&mut self, gpu: &Gpu, env: &EnvLight, texel_m: f32, specular: bool) {
-        let cells: Vec<[f32; 16]> = env
+        let cells: Vec<[f32; 20]> = env
             .cells
             .iter()
             .map(|c| {
-                let mut v = [0.0f32; 16];
+                let mut v = [0.0f32; 20];
                 v[..4].copy_from_slice(&[c.dir.x, c.dir.y, c.dir.z, texel_m]);
                 let w = [c.solid_angle, 0.0, 0.0];
                 for ch in 0..3 {
                     let m = c.moment[ch];
                     v[4 + 4 * ch..8 + 4 * ch].copy_from_slice(&[m.x, m.y, m.z, w[ch]]);
                 }
+                v[16..].copy_from_slice(&[c.first_part as f32, c.parts as f32, c.tan_radius, 0.0]);
                 v
             })
             .collect();
-        self.cells = gpu
-            .device
-            .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                label: Some("sky cells"),
-                contents: bytemuck::cast_slice(if cells.is_empty() {
-                    &[[0.0f32; 16]]
-                } else {
-                    &cells[..]
-                }),
-                usage: wgpu::BufferUsages::STORAGE,
-            });
+        let parts: Vec<[f32; 12]> = env
+            .parts
+            .iter()
+            .map(|p| {
+                let mut v = [0.0f32; 12];
+                let w = [p.offset[0], p.offset[1], 0.0];
+                for ch in 0..3 {
+                    let m = p.moment[ch];
+                    v[4 * ch..4 * ch + 4].copy_from_slice(&[m.x, m.y, m.z, w[ch]]);
+                }
+                v
+            })
+            .collect();
+        self.cells = storage(gpu, "sky cells", &cells);
+        self.parts = storage(gpu, "sky cell parts", &parts);
         if !specular {
             return;
         }

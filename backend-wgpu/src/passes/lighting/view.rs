@@ -118,7 +118,7 @@ pub struct LightView {
 }
 
 /// An orthonormal basis (right, up) perpendicular to the unit `dir`.
-fn light_basis(dir: Vec3) -> (Vec3, Vec3) {
+pub(crate) fn light_basis(dir: Vec3) -> (Vec3, Vec3) {
     let helper = if dir.y.abs() < 0.99 { Vec3::Y } else { Vec3::X };
     let right = helper.cross(dir).normalize();
     (right, dir.cross(right))

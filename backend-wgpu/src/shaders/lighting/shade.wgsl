@@ -65,6 +65,19 @@ struct SkyCell {
     r: vec4<f32>,
     g: vec4<f32>,
     b: vec4<f32>,
+    // x: its first part, y: its parts, z: the tangent of the cone around
+    // dir that holds the cell (env.rs `SkyCell`).
+    parts: vec4<f32>,
+}
+
+struct CellPart {
+    // xyz: ∫ L ω dω of the red channel over the part; w: the step of its
+    // rays across the cell's map (right) per metre along the cell's
+    // direction.
+    r: vec4<f32>,
+    // w: the step (up).
+    g: vec4<f32>,
+    b: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> u: Shade;
@@ -84,6 +97,7 @@ struct SkyCell {
 @group(0) @binding(14) var lin: sampler;
 @group(0) @binding(15) var air_in: texture_3d<f32>;
 @group(0) @binding(16) var air_t: texture_3d<f32>;
+@group(0) @binding(17) var<storage, read> parts: array<CellPart>;
 // The sky pass writes, the shade pass reads: per pixel the sky's diffuse
 // irradiance (rgb) and the open fraction of the sky (a), and the
 // visibility of the cell nearest the reflected ray.
@@ -108,25 +122,88 @@ fn inside(uv: vec2<f32>) -> bool {
 // lookup there compares against the plane and never finds the receiver as
 // its own blocker (receiver-plane depth bias). m: the map's matrix (rows:
 // right / half, up / half), ld: towards the light.
-fn plane_gradient(m: mat4x4<f32>, n: vec3<f32>, ld: vec3<f32>, texel: f32, depth_m: f32) -> vec2<f32> {
+fn plane_gradient(m: mat4x4<f32>, n: vec3<f32>, ld: vec3<f32>, texel: f32, depth_m: f32, min_nl: f32) -> vec2<f32> {
     let right = normalize(vec3<f32>(m[0].x, m[1].x, m[2].x));
     let up = normalize(vec3<f32>(m[0].y, m[1].y, m[2].y));
-    let nl = max(dot(n, ld), 0.05);
+    let nl = max(dot(n, ld), min_nl);
     // Texel offsets run along +right and −up (image rows go down).
     return vec2<f32>(dot(n, right), -dot(n, up)) * texel / (nl * depth_m);
 }
 
-// Visibility of sky cell k from point p with normal n: one bilinear
-// depth comparison in the cell's map along the cell's direction.
-fn cell_visibility(k: u32, p: vec3<f32>, n: vec3<f32>) -> f32 {
+// The irradiance from part j of a cell on a surface of normal n, were it
+// all visible.
+fn part_light(j: u32, n: vec3<f32>) -> vec3<f32> {
+    let q = parts[j];
+    return max(vec3<f32>(dot(n, q.r.xyz), dot(n, q.g.xyz), dot(n, q.b.xyz)), vec3<f32>(0.0));
+}
+
+// The light of sky cell k at point p with normal n (rgb) and the visible
+// fraction of its parts (a). Cells whose map shows no blocker around p
+// within the cell's cone count whole; otherwise each part's visibility is
+// one bilinear depth comparison where its rays cross the blockers' mean
+// depth (their parallax across the map), against the receiver's plane.
+fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     let c = cells[k];
-    let q = p + n * (1.5 * c.dir.w);
-    let s = cell_view[k] * vec4<f32>(q, 1.0);
+    let first = u32(c.parts.x);
+    let count = u32(c.parts.y);
+    var whole = vec3<f32>(0.0);
+    for (var j = first; j < first + count; j++) {
+        whole += part_light(j, n);
+    }
+    let m = cell_view[k];
+    let texel = c.dir.w;
+    let q = p + n * (1.5 * texel);
+    let s = m * vec4<f32>(q, 1.0);
     let uv = light_uv(s);
     if !inside(uv) || s.z < 0.0 {
-        return 1.0;
+        return vec4<f32>(whole, 1.0);
     }
-    return textureSampleCompareLevel(visibility, cmp_sampler, uv, i32(k), s.z - 1e-4);
+    let size = vec2<f32>(textureDimensions(visibility));
+    // The map's half side and depth range from its matrix's rows.
+    let inv_half = length(vec3<f32>(m[0].x, m[1].x, m[2].x));
+    let depth_m = 1.0 / length(vec3<f32>(m[0].z, m[1].z, m[2].z));
+    let per_m = 0.5 * inv_half * size.x;
+    let z = s.z - 1e-4;
+    // (A plane seen nearly edge-on would tilt through every blocker in
+    // reach: its slope is capped.)
+    let g = plane_gradient(m, n, c.dir.xyz, texel, depth_m, 0.3);
+    // Blockers within the cone from p towards the top of the map.
+    let search = clamp(s.z * depth_m * c.parts.z * per_m, 1.0, 64.0);
+    // (The first tap is p's own texel: a blocker much narrower than the
+    // search's disk still counts.)
+    var blockers = 0.0;
+    var zb = 0.0;
+    let taps = 13u;
+    for (var i = 0u; i < taps; i++) {
+        var o = vec2<f32>(0.0);
+        if i > 0u {
+            o = disk(i - 1u, taps - 1u, rot) * search;
+        }
+        let t = vec2<i32>(clamp(uv * size + o, vec2<f32>(0.0), size - 1.0));
+        let d = textureLoad(visibility, t, i32(k), 0);
+        if d < z + dot(o, g) - 2e-4 {
+            blockers += 1.0;
+            zb = max(zb, d);
+        }
+    }
+    if blockers == 0.0 {
+        return vec4<f32>(whole, 1.0);
+    }
+    if blockers == f32(taps) {
+        return vec4<f32>(0.0);
+    }
+    // Metres from the nearest blocker down to p along the cell's direction.
+    let h = max(z - zb, 0.0) * depth_m;
+    var e = vec3<f32>(0.0);
+    var seen = 0.0;
+    for (var j = first; j < first + count; j++) {
+        let part = parts[j];
+        let o = vec2<f32>(part.r.w, -part.g.w) * (h * per_m);
+        let v = textureSampleCompareLevel(visibility, cmp_sampler, uv + o / size, i32(k), z + dot(o, g));
+        e += part_light(j, n) * v;
+        seen += v;
+    }
+    return vec4<f32>(e, seen / max(f32(count), 1.0));
 }
 
 // A per-pixel rotation for the disk samples (interleaved gradient noise,
@@ -168,7 +245,7 @@ fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, vie
     // across the map it lies x·tan(n, l) deeper or shallower. Lookups x
     // away are biased by that much, so a wide filter does not find the
     // receiver itself as its blocker.
-    let g = plane_gradient(u.cascade[layer], n, ld, texel, depth_m);
+    let g = plane_gradient(u.cascade[layer], n, ld, texel, depth_m, 0.05);
     let mode = u.counts.w;
     if mode == 0u {
         let t = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
@@ -339,6 +416,7 @@ fn sky(@builtin(global_invocation_id) gid: vec3<u32>) {
     let per = u.counts.x;
     // The aureoles' cells follow the sets' (env.rs); every pixel sums them.
     let aureole_first = side * side * per;
+    let rot = rotation(gid.xy);
     var e = vec3<f32>(0.0);
     var best = -2.0;
     var spec_vis = 1.0;
@@ -350,14 +428,17 @@ fn sky(@builtin(global_invocation_id) gid: vec3<u32>) {
             k = aureole_first + j - per;
         }
         let c = cells[k];
-        let proj = vec3<f32>(dot(n, c.r.xyz), dot(n, c.g.xyz), dot(n, c.b.xyz));
         let upper = c.dir.y > 0.0;
         let near_r = dot(r, c.dir.xyz);
-        if !(any(proj > vec3<f32>(0.0)) || upper || near_r > best) {
+        // A cell wholly behind the surface gives no light (its cone lies
+        // beyond the surface's horizon).
+        let behind = dot(n, c.dir.xyz) < -c.parts.z / sqrt(1.0 + c.parts.z * c.parts.z);
+        if behind && !upper && near_r <= best {
             continue;
         }
-        let vis = cell_visibility(k, p, n);
-        e += max(proj, vec3<f32>(0.0)) * vis;
+        let cl = cell_light(k, p, n, rot);
+        let vis = cl.a;
+        e += cl.rgb;
         if near_r > best {
             best = near_r;
             spec_vis = vis;
@@ -373,6 +454,21 @@ fn sky(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     textureStore(sky_e_out, px, vec4<f32>(e, open));
     textureStore(sky_s_out, px, vec4<f32>(spec_vis, 0.0, 0.0, 0.0));
+}
+
+// Whether pixel q shows the surface through p with normal n (seen at
+// distance dist): a similar normal and a point on the plane through p
+// (within 2 % of the distance).
+fn same_surface(q: vec2<i32>, p: vec3<f32>, n: vec3<f32>, dist: f32, w: u32, h: u32) -> bool {
+    if any(q < vec2<i32>(0)) || q.x >= i32(w) || q.y >= i32(h) {
+        return false;
+    }
+    if textureLoad(g_material, q, 0).x == 0u {
+        return false;
+    }
+    let nq = textureLoad(g_normal, q, 0).xyz;
+    let pq = u.eye.xyz + pixel_ray(q, w, h) * textureLoad(g_distance, q, 0).x;
+    return dot(nq, n) >= 0.95 && abs(dot(pq - p, n)) <= 0.02 * dist;
 }
 
 @compute @workgroup_size(8, 8)
@@ -419,28 +515,23 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
         var acc = vec4<f32>(0.0);
         var acc_s = 0.0;
         var wsum = 0.0;
+        // Each set once: the block's pixel of that set, or where the
+        // surface ends there (an edge, a corner), the nearest pixel of the
+        // same set beyond the centre (one block over) that lies on it.
         for (var dy = lo; dy < lo + side; dy++) {
             for (var dx = lo; dx < lo + side; dx++) {
-                let q = px + vec2<i32>(dx, dy);
-                if any(q < vec2<i32>(0)) || q.x >= i32(w) || q.y >= i32(h) {
-                    continue;
+                let d = vec2<i32>(dx, dy);
+                let over = select(vec2<i32>(-side), vec2<i32>(side), d < vec2<i32>(0));
+                for (var c = 0; c < 4; c++) {
+                    let q = px + d + over * vec2<i32>(c & 1, c >> 1u);
+                    if !same_surface(q, p, s.n, dist, w, h) {
+                        continue;
+                    }
+                    acc += textureLoad(sky_e_in, q, 0);
+                    acc_s += textureLoad(sky_s_in, q, 0).x;
+                    wsum += 1.0;
+                    break;
                 }
-                if textureLoad(g_material, q, 0).x == 0u {
-                    continue;
-                }
-                let nq = textureLoad(g_normal, q, 0).xyz;
-                let dq = textureLoad(g_distance, q, 0).x;
-                // The same surface: a similar normal and a distance on the
-                // plane through this pixel (within 2 %).
-                let rq = pixel_ray(q, w, h);
-                let pq = u.eye.xyz + rq * dq;
-                let off = abs(dot(pq - p, s.n));
-                if dot(nq, s.n) < 0.95 || off > 0.02 * dist {
-                    continue;
-                }
-                acc += textureLoad(sky_e_in, q, 0);
-                acc_s += textureLoad(sky_s_in, q, 0).x;
-                wsum += 1.0;
             }
         }
         let e = acc.rgb / max(wsum, 1.0);
