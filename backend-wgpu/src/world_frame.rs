@@ -37,6 +37,7 @@ pub struct EnvKey {
     atmosphere: himmel_skymodel::atmosphere::AtmosphereParams,
     effects: Vec<Effect>,
     face: u32,
+    parts: u32,
     directions: Vec<[u32; 3]>,
     observer_km: f64,
     /// Whether the Sun and the Moon light the world (they have aureoles).
@@ -62,6 +63,7 @@ impl EnvKey {
             atmosphere: scene.atmosphere.clone(),
             effects: env_effects(scene),
             face: scene.lighting.sky.cube_face,
+            parts: scene.lighting.sky.parts,
             directions: dirs
                 .iter()
                 .map(|d| d.to_array().map(f32::to_bits))
@@ -84,6 +86,7 @@ impl EnvKey {
         let same = self.atmosphere == now.atmosphere
             && self.effects == now.effects
             && self.face == now.face
+            && self.parts == now.parts
             && self.directions == now.directions
             && self.moon_scale.is_some() == now.moon_scale.is_some()
             && self.bodies == now.bodies

@@ -18,7 +18,7 @@ use glam::Vec3;
 use crate::{Material, Mesh, World};
 
 /// Builds a world one material at a time.
-#[derive(Debug, Default)]
+#[derive(Debug, Default, Clone)]
 pub struct Builder {
     world: World,
 }

@@ -326,7 +326,7 @@ impl EnvLight {
 /// Cuts each cell into parts: its texels (`assigned` to it with their
 /// weight) grouped on a square grid in the plane across the cell's
 /// direction, of about `per_cell` squares over the cell's solid angle (one
-/// part a cell when `per_cell` ≤ 1). Fills the cells' part ranges and
+/// part a cell, along its direction, when `per_cell` ≤ 1). Fills the cells' part ranges and
 /// cone radii; returns the parts, cell after cell.
 fn cut_into_parts(
     cells: &mut [SkyCell],
@@ -389,8 +389,15 @@ fn cut_into_parts(
             c.first_part = parts.len() as u32;
         }
         c.parts += 1;
+        // One part a cell is looked up along the cell's own direction,
+        // where its map is exact.
+        let offset = if per_cell <= 1 {
+            [0.0; 2]
+        } else {
+            [g.ab[0] / g.sa, g.ab[1] / g.sa]
+        };
         parts.push(CellPart {
-            offset: [g.ab[0] / g.sa, g.ab[1] / g.sa],
+            offset,
             moment: g.moment,
         });
     }

@@ -137,26 +137,49 @@ fn part_light(j: u32, n: vec3<f32>) -> vec3<f32> {
     return max(vec3<f32>(dot(n, q.r.xyz), dot(n, q.g.xyz), dot(n, q.b.xyz)), vec3<f32>(0.0));
 }
 
+// Whether any of the four texels of map k that a bilinear lookup at
+// texel position t reads shows nothing (the cleared depth, 1).
+fn empty_near(k: u32, t: vec2<f32>, size: vec2<f32>) -> bool {
+    let t0 = vec2<i32>(clamp(floor(t - 0.5), vec2<f32>(0.0), size - 2.0));
+    var far = 0.0;
+    for (var c = 0; c < 4; c++) {
+        far = max(far, textureLoad(visibility, t0 + vec2<i32>(c & 1, c >> 1u), i32(k), 0));
+    }
+    return far >= 0.9999;
+}
+
+// The light of sky cell k at p with normal n were it all visible: n·M,
+// or where the cell's cone crosses the surface's plane, its parts'
+// (each clamped to the side the surface faces).
+fn cell_whole(c: SkyCell, n: vec3<f32>) -> vec3<f32> {
+    let sin_r = c.parts.z / sqrt(1.0 + c.parts.z * c.parts.z);
+    if dot(n, c.dir.xyz) >= sin_r {
+        return max(vec3<f32>(dot(n, c.r.xyz), dot(n, c.g.xyz), dot(n, c.b.xyz)), vec3<f32>(0.0));
+    }
+    var e = vec3<f32>(0.0);
+    let first = u32(c.parts.x);
+    for (var j = first; j < first + u32(c.parts.y); j++) {
+        e += part_light(j, n);
+    }
+    return e;
+}
+
 // The light of sky cell k at point p with normal n (rgb) and the visible
-// fraction of its parts (a). Cells whose map shows no blocker around p
-// within the cell's cone count whole; otherwise each part's visibility is
-// one bilinear depth comparison where its rays cross the blockers' mean
-// depth (their parallax across the map), against the receiver's plane.
+// fraction of its parts (a). Nine lookups first — along the cell's
+// direction and over the disk its cone covers where it meets the top of
+// the map: all open, the cell counts whole; all blocked, not at all.
+// Otherwise each part's visibility is one bilinear depth comparison where
+// its rays cross the nearest blocker (their parallax across the map),
+// against the receiver's plane.
 fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     let c = cells[k];
-    let first = u32(c.parts.x);
-    let count = u32(c.parts.y);
-    var whole = vec3<f32>(0.0);
-    for (var j = first; j < first + count; j++) {
-        whole += part_light(j, n);
-    }
     let m = cell_view[k];
     let texel = c.dir.w;
     let q = p + n * (1.5 * texel);
     let s = m * vec4<f32>(q, 1.0);
     let uv = light_uv(s);
     if !inside(uv) || s.z < 0.0 {
-        return vec4<f32>(whole, 1.0);
+        return vec4<f32>(cell_whole(c, n), 1.0);
     }
     let size = vec2<f32>(textureDimensions(visibility));
     // The map's half side and depth range from its matrix's rows.
@@ -167,39 +190,66 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     // (A plane seen nearly edge-on would tilt through every blocker in
     // reach: its slope is capped.)
     let g = plane_gradient(m, n, c.dir.xyz, texel, depth_m, 0.3);
-    // Blockers within the cone from p towards the top of the map.
+    // The cone's radius, texels, where it leaves the map's top.
     let search = clamp(s.z * depth_m * c.parts.z * per_m, 1.0, 64.0);
-    // (The first tap is p's own texel: a blocker much narrower than the
-    // search's disk still counts.)
-    var blockers = 0.0;
-    var zb = 0.0;
-    let taps = 13u;
-    for (var i = 0u; i < taps; i++) {
-        var o = vec2<f32>(0.0);
-        if i > 0u {
-            o = disk(i - 1u, taps - 1u, rot) * search;
-        }
+    var open = textureSampleCompareLevel(visibility, cmp_sampler, uv, i32(k), z);
+    let t0 = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
+    let d0 = textureLoad(visibility, t0, i32(k), 0);
+    // The nearest blocker among the lookups (depth; 0: none yet).
+    var zb = select(0.0, d0, d0 < z - 2e-4);
+    for (var i = 0u; i < 8u; i++) {
+        let o = disk(i, 8u, rot) * search;
         let t = vec2<i32>(clamp(uv * size + o, vec2<f32>(0.0), size - 1.0));
         let d = textureLoad(visibility, t, i32(k), 0);
-        if d < z + dot(o, g) - 2e-4 {
-            blockers += 1.0;
+        let below = z + dot(o, g);
+        open += select(0.0, 1.0, d >= below);
+        if d < below - 2e-4 {
             zb = max(zb, d);
         }
     }
-    if blockers == 0.0 {
-        return vec4<f32>(whole, 1.0);
+    if open >= 9.0 {
+        return vec4<f32>(cell_whole(c, n), 1.0);
     }
-    if blockers == f32(taps) {
+    if open <= 0.0 {
         return vec4<f32>(0.0);
+    }
+    // The nearest blocker within the cone (a blocker much narrower than
+    // the disk still counts through p's own texel above).
+    let taps = 12u;
+    for (var i = 0u; i < taps; i++) {
+        let o = disk(i, taps, rot) * search;
+        let t = vec2<i32>(clamp(uv * size + o, vec2<f32>(0.0), size - 1.0));
+        let d = textureLoad(visibility, t, i32(k), 0);
+        if d < z + dot(o, g) - 2e-4 {
+            zb = max(zb, d);
+        }
+    }
+    if zb <= 0.0 {
+        // Only the bilinear lookup saw a blocker (an edge within a texel).
+        return vec4<f32>(cell_whole(c, n) * open / 9.0, open / 9.0);
     }
     // Metres from the nearest blocker down to p along the cell's direction.
     let h = max(z - zb, 0.0) * depth_m;
     var e = vec3<f32>(0.0);
     var seen = 0.0;
+    let first = u32(c.parts.x);
+    let count = u32(c.parts.y);
     for (var j = first; j < first + count; j++) {
         let part = parts[j];
         let o = vec2<f32>(part.r.w, -part.g.w) * (h * per_m);
-        let v = textureSampleCompareLevel(visibility, cmp_sampler, uv + o / size, i32(k), z + dot(o, g));
+        var v = textureSampleCompareLevel(visibility, cmp_sampler, uv + o / size, i32(k), z + dot(o, g));
+        if v > 0.0 && empty_near(k, uv * size + o, size) {
+            // Past the edge of everything the map shows: the ray must not
+            // have run beneath it on the way (out of a closed box through
+            // a wall the map sees edge-on). Halfway, it lies deeper than
+            // what the map shows there or it is blocked.
+            for (var f = 0.25; f < 0.8; f += 0.25) {
+                let th = vec2<i32>(clamp(uv * size + f * o, vec2<f32>(0.0), size - 1.0));
+                if textureLoad(visibility, th, i32(k), 0) < z - f * h / depth_m - 2e-4 {
+                    v = 0.0;
+                }
+            }
+        }
         e += part_light(j, n) * v;
         seen += v;
     }
