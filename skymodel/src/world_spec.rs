@@ -173,11 +173,14 @@ pub struct SkyLightSettings {
     /// whole world, and a texel of a tenth of a metre or less keeps the
     /// sky that a box hides from the floor beside it).
     pub visibility_resolution: u32,
-    /// Parts per cell, in [1, 64] (default 16): each cell's sky is cut into
-    /// about this many parts, each looked up in the cell's visibility map
-    /// where its rays cross the cell's blockers, so that an opening (a
-    /// window) lets through the part of a cell it frames rather than the
-    /// whole cell or none of it; 1 = one lookup along the cell's direction.
+    /// Parts per cell, in [1, 64] (default 1: one lookup along the cell's
+    /// direction). More cut each cell's sky into about this many parts,
+    /// each looked up in the cell's map where its rays cross the nearest
+    /// blocker, so that an opening (a window) lets through the part of a
+    /// cell it frames rather than the whole cell or none of it: 16 halves
+    /// the error of a room lit through a window, at several times the
+    /// lighting pass's cost, and lets up to 2 × 10⁻⁴ of the open sky's
+    /// light into a closed box (surfaces the maps see edge-on).
     pub parts: u32,
     /// The environment light is rebuilt when the Sun or Moon moved more
     /// than this, degrees, in [0, 10] (default 0.05; 0 = every frame).
@@ -191,7 +194,7 @@ impl Default for SkyLightSettings {
             directions: 64,
             interleave: 4,
             visibility_resolution: 512,
-            parts: 16,
+            parts: 1,
             reuse_tolerance_deg: 0.05,
         }
     }

@@ -66,9 +66,13 @@ fn case_scene(c: &Value) -> Scene {
         gltf: c["world"].as_str().unwrap().into(),
         ground: c["ground"].as_bool().unwrap_or(false),
     });
-    // Other lighting settings than the defaults, to measure them:
+    // The case's own lighting settings (the sun room's: its cells in
+    // parts, for the window), then others to measure them:
     // HIMMEL_WORLD_LIGHTING='{"sky": {"interleave": 2, "directions": 256}}'
     // (the scene file's `lighting` object).
+    if let Some(l) = c.get("lighting") {
+        s.lighting = serde_json::from_value(l.clone()).expect("a case's `lighting` object");
+    }
     if let Ok(json) = std::env::var("HIMMEL_WORLD_LIGHTING") {
         s.lighting =
             serde_json::from_str(&json).expect("HIMMEL_WORLD_LIGHTING: a `lighting` object");

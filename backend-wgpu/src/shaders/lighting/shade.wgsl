@@ -181,18 +181,22 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     if !inside(uv) || s.z < 0.0 {
         return vec4<f32>(cell_whole(c, n), 1.0);
     }
+    let z = s.z - 1e-4;
+    var open = textureSampleCompareLevel(visibility, cmp_sampler, uv, i32(k), z);
+    if c.parts.y <= 1.0 {
+        // One part: the cell's own direction, one bilinear lookup.
+        return vec4<f32>(cell_whole(c, n) * open, open);
+    }
     let size = vec2<f32>(textureDimensions(visibility));
     // The map's half side and depth range from its matrix's rows.
     let inv_half = length(vec3<f32>(m[0].x, m[1].x, m[2].x));
     let depth_m = 1.0 / length(vec3<f32>(m[0].z, m[1].z, m[2].z));
     let per_m = 0.5 * inv_half * size.x;
-    let z = s.z - 1e-4;
     // (A plane seen nearly edge-on would tilt through every blocker in
     // reach: its slope is capped.)
     let g = plane_gradient(m, n, c.dir.xyz, texel, depth_m, 0.3);
     // The cone's radius, texels, where it leaves the map's top.
     let search = clamp(s.z * depth_m * c.parts.z * per_m, 1.0, 64.0);
-    var open = textureSampleCompareLevel(visibility, cmp_sampler, uv, i32(k), z);
     let t0 = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
     let d0 = textureLoad(visibility, t0, i32(k), 0);
     // The nearest blocker among the lookups (depth; 0: none yet).
