@@ -156,8 +156,8 @@ impl MilkyWayMap {
     /// Luminance (linear sRGB, cd/m²) towards the ICRS unit vector `u`,
     /// bilinear, wrapping in right ascension.
     pub fn radiance(&self, u: Vec3) -> [f32; 3] {
-        let ra = u.y.atan2(u.x);
-        let dec = u.z.clamp(-1.0, 1.0).asin();
+        let ra = crate::angle::atan2(u.y, u.x);
+        let dec = crate::angle::asin(u.z);
         // u = 0.25 − α/2π in [−0.25, 0.75] for α in [−π, π]; no divisions
         // or remainders on this hot path.
         let mut fu = 0.25 - ra * (0.5 / std::f32::consts::PI);

@@ -622,7 +622,7 @@ impl SkyView {
     /// same for every sky view of one LUT configuration.
     #[inline]
     pub fn row_coordinate(&self, dir: Vec3) -> f32 {
-        let e = dir.z.min(1.0).asin();
+        let e = crate::angle::asin(dir.z);
         tex_from_unit((e / std::f32::consts::FRAC_PI_2).sqrt(), self.lut.h)
     }
 
@@ -632,7 +632,7 @@ impl SkyView {
     pub fn radiance_at_row(&self, dir: Vec3, sun: Vec3, v: f32) -> [f32; 3] {
         let cross = dir.x * sun.y - dir.y * sun.x;
         let dot = dir.x * sun.x + dir.y * sun.y;
-        let az = cross.abs().atan2(dot);
+        let az = crate::angle::atan2(cross.abs(), dot);
         let u = tex_from_unit(az / std::f32::consts::PI, self.lut.w);
         self.lut.sample_rgb(u, v)
     }
