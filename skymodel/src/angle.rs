@@ -7,12 +7,11 @@
 //! truncated Chebyshev series of atan(√s)/√s on s ∈ [0, 1], expanded into
 //! monomials and rounded to `f32` (coefficients computed for this module;
 //! the series converges like (3 + √8)⁻ⁿ, as atan(√s)/√s has its nearest
-//! singularity at s = −1). Evaluated by Horner's rule in `f32`, the result
-//! is within 1.6 ulp of atan(a) over [0, 1] (`f32` rounding dominates the
-//! truncation error, 2 × 10⁻⁹); octant reduction (the quotient of the
-//! smaller by the larger magnitude, π/2 − θ, π − θ) adds one rounding
-//! each. Test `atan2_and_asin_match_the_library` bounds the whole in a
-//! dense sweep against `f64`.
+//! singularity at s = −1): its truncation error, 2 × 10⁻⁹, is below
+//! `f32` rounding. With the octant reduction (the quotient of the smaller
+//! by the larger magnitude, π/2 − θ, π − θ) and the `f32` evaluation the
+//! angle is within 4 ulp of the exact one (test
+//! `atan2_and_asin_match_the_library`, a dense sweep against `f64`).
 
 use std::f32::consts::{FRAC_PI_2, PI};
 
@@ -30,15 +29,24 @@ const ATAN_POLY: [f32; 10] = [
     -0.001_743_701_2,
 ];
 
-/// atan(a) for a ∈ [0, 1].
+/// atan(a) for a ∈ [0, 1]. P is evaluated by Estrin's scheme (pairs, then
+/// powers s², s⁴, s⁸): four dependent multiply–add levels instead of
+/// Horner's nine, so that the lookups' latency does not bound a pixel.
 #[inline]
 fn atan_unit(a: f32) -> f32 {
+    let c = &ATAN_POLY;
     let s = a * a;
-    let mut p = ATAN_POLY[9];
-    for &c in ATAN_POLY[..9].iter().rev() {
-        p = p * s + c;
-    }
-    a * p
+    let s2 = s * s;
+    let s4 = s2 * s2;
+    let s8 = s4 * s4;
+    let p01 = c[0] + c[1] * s;
+    let p23 = c[2] + c[3] * s;
+    let p45 = c[4] + c[5] * s;
+    let p67 = c[6] + c[7] * s;
+    let p89 = c[8] + c[9] * s;
+    let p03 = p01 + p23 * s2;
+    let p47 = p45 + p67 * s2;
+    a * (p03 + p47 * s4 + p89 * s8)
 }
 
 /// The angle of the vector (x, y) from the +x axis, radians in [−π, π]
@@ -84,8 +92,8 @@ mod tests {
     #[test]
     fn atan2_and_asin_match_the_library() {
         // A dense sweep of directions on the circle (every quadrant, the
-        // axes, the diagonals) at three radii: within 3 ulp of the exact
-        // angle, as close as the C library's atan2f (≤ 1 ulp) up to 2 ulp.
+        // axes, the diagonals) at three radii: within 4 ulp of the exact
+        // angle (the C library's atan2f: 1 ulp).
         let mut worst = 0.0f64;
         for r in [1e-3f32, 1.0, 1e4] {
             for k in 0..=400_000 {
@@ -96,7 +104,7 @@ mod tests {
                 worst = worst.max(e);
             }
         }
-        assert!(worst <= 3.0, "atan2: {worst} ulp");
+        assert!(worst <= 4.0, "atan2: {worst} ulp");
         // Exact at the axes and the signs of zero and the quadrants.
         assert_eq!(atan2(0.0, 1.0), 0.0);
         assert_eq!(atan2(0.0, 0.0), 0.0);
@@ -104,14 +112,14 @@ mod tests {
         assert_eq!(atan2(-1.0, 0.0), -FRAC_PI_2);
         assert_eq!(atan2(0.0, -1.0), PI);
         assert!((atan2(-1.0, -1.0) + 0.75 * PI).abs() <= 2.5e-7);
-        // asin: within 3 ulp of the exact arcsine of the f32 argument.
+        // asin: within 4 ulp of the exact arcsine of the f32 argument.
         let mut worst = 0.0f64;
         for k in 0..=400_000 {
             let z = (-1.0 + 2.0 * k as f64 / 400_000.0) as f32;
             let exact = (z as f64).asin();
             worst = worst.max((asin(z) as f64 - exact).abs() / ulp(exact));
         }
-        assert!(worst <= 3.0, "asin: {worst} ulp");
+        assert!(worst <= 4.0, "asin: {worst} ulp");
         assert_eq!(asin(1.0), FRAC_PI_2);
         assert_eq!(asin(-1.0), -FRAC_PI_2);
         assert_eq!(asin(2.0), FRAC_PI_2);
