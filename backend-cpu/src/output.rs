@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use himmel_skymodel::camera::{develop_pixel, exposure_ev100, exposure_scale, CameraSettings};
+use himmel_skymodel::camera::{develop_row, exposure_ev100, exposure_scale, CameraSettings};
 use himmel_skymodel::file::write_file;
 use himmel_skymodel::HdrImage;
 use rayon::prelude::*;
@@ -116,20 +116,10 @@ pub fn write_png_overlaid(
     let k = exposure_scale(ev);
     let w = img.width.max(1);
     let mut rgb8 = vec![0u8; img.pixels.len() * 3];
-    rgb8.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
-        for x in 0..w {
-            let i = y * w + x;
-            if i < img.pixels.len() && img.valid[i] {
-                row[x * 3..x * 3 + 3].copy_from_slice(&develop_pixel(
-                    img.pixels[i],
-                    x,
-                    y,
-                    k,
-                    settings,
-                ));
-            }
-        }
-    });
+    rgb8.par_chunks_mut(w * 3)
+        .zip(img.pixels.par_chunks(w).zip(img.valid.par_chunks(w)))
+        .enumerate()
+        .for_each(|(y, (row, (px, valid)))| develop_row(px, valid, y, k, settings, row));
     let rgb8 = rgb8
         .get_mut(..img.width * img.height * 3)
         .ok_or_else(|| format!("{}: image buffer size mismatch", path.display()))?;
