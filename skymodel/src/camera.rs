@@ -376,9 +376,29 @@ pub fn tone_quantize(x: f32, d: f32) -> u8 {
 #[derive(Debug)]
 pub struct ToneTable {
     /// Per dither index (64 Bayer levels, then [`UNDITHERED`]): the
-    /// threshold of level q at index q − 1; index 255 is never read.
+    /// threshold of level q at index q − 1; index 255 is NaN (never
+    /// reached).
     thresholds: Vec<[f32; 256]>,
+    /// The bucket index ([`BUCKET_SHIFT`]) of the first bucket.
+    bucket0: u32,
+    /// Per bucket of exposed values: a level at or below the level of
+    /// every value in the bucket, for every dither index.
+    start: Vec<u8>,
+    /// Whether [`BUCKET_STEPS`] comparisons above `start` decide every
+    /// bucket for every dither index (and the thresholds are sorted);
+    /// otherwise the binary search decides.
+    bucketed: bool,
 }
+
+/// Buckets of exposed values by their `f32` bit pattern (ordered as the
+/// values for x ≥ 0): 2²³⁻¹⁷ = 64 buckets per octave, about one 8-bit
+/// level per bucket where the levels are densest.
+const BUCKET_SHIFT: u32 = 17;
+
+/// Thresholds compared above a bucket's first level: the most levels any
+/// bucket spans for some dither index (3 with the curve and buckets here;
+/// the table falls back to the binary search if it ever needs more).
+const BUCKET_STEPS: usize = 3;
 
 impl ToneTable {
     /// The table, computed on first use (a few milliseconds, one thread).
@@ -391,7 +411,7 @@ impl ToneTable {
     /// rows), and a parallel initialiser could then steal another row's
     /// task on the same thread and re-enter the initialisation.
     fn new() -> ToneTable {
-        let thresholds = (0..=UNDITHERED)
+        let thresholds: Vec<[f32; 256]> = (0..=UNDITHERED)
             .map(|di| {
                 let d = dither_offset(di);
                 let mut t = [f32::NAN; 256];
@@ -401,23 +421,88 @@ impl ToneTable {
                 t
             })
             .collect();
-        ToneTable { thresholds }
+        let sorted = thresholds.iter().all(|t| {
+            let n = t.iter().take_while(|v| !v.is_nan()).count();
+            t[..n].windows(2).all(|p| p[0] <= p[1]) && t[n..].iter().all(|v| v.is_nan())
+        });
+        let lowest = thresholds
+            .iter()
+            .flat_map(|t| t.iter())
+            .filter(|v| **v > 0.0)
+            .fold(f32::INFINITY, |m, &v| m.min(v));
+        let bucket0 = lowest.min(1e4).to_bits() >> BUCKET_SHIFT;
+        let buckets = ((1e4f32.to_bits() >> BUCKET_SHIFT) - bucket0 + 1) as usize;
+        let mut start = vec![0u8; buckets];
+        let mut steps = 0usize;
+        for (k, s) in start.iter_mut().enumerate() {
+            let edge = |k: u32| f32::from_bits((bucket0 + k) << BUCKET_SHIFT);
+            let lo = if k == 0 { 0.0 } else { edge(k as u32) };
+            let hi = if k + 1 == buckets {
+                f32::INFINITY
+            } else {
+                f32::from_bits(edge(k as u32 + 1).to_bits() - 1)
+            };
+            let count = |x: f32| thresholds.iter().map(move |t| search(t, x));
+            let first = count(lo).min().unwrap_or(0);
+            *s = first;
+            let most = count(hi).max().unwrap_or(0);
+            steps = steps.max((most - first) as usize);
+        }
+        ToneTable {
+            thresholds,
+            bucket0,
+            start,
+            bucketed: sorted && steps <= BUCKET_STEPS,
+        }
     }
 
     /// [`tone_quantize`]`(x, d)` for dither index `d` (Bayer level 0–63,
-    /// or 64 for no dither).
-    #[inline]
+    /// or 64 for no dither): the number of thresholds at or below x, from
+    /// its bucket's first level and a few comparisons (equal to the binary
+    /// search [`Self::quantize_search`]; test `tone_buckets_equal_the_search`).
+    #[inline(always)]
     pub fn quantize(&self, x: f32, d: usize) -> u8 {
         let t = &self.thresholds[d.min(UNDITHERED)];
-        // Branch-free binary search: t[..i] ≤ x after each step.
-        let mut i = 0usize;
-        for step in [128, 64, 32, 16, 8, 4, 2, 1] {
-            if t[i + step - 1] <= x {
-                i += step;
-            }
+        if !self.bucketed {
+            return search(t, x);
+        }
+        // Negative values and NaN are below every threshold; −0 is 0.
+        let bits = if x > 0.0 {
+            x.to_bits()
+        } else if x == 0.0 {
+            0
+        } else {
+            return 0;
+        };
+        let k = ((bits >> BUCKET_SHIFT).saturating_sub(self.bucket0) as usize)
+            .min(self.start.len() - 1);
+        let mut i = self.start[k] as usize;
+        for _ in 0..BUCKET_STEPS {
+            // t[255] is NaN: i stops at 255.
+            i += usize::from(t[i.min(255)] <= x);
         }
         i as u8
     }
+
+    /// [`Self::quantize`] by a binary search of the thresholds (the
+    /// reference of the bucketed form).
+    pub fn quantize_search(&self, x: f32, d: usize) -> u8 {
+        search(&self.thresholds[d.min(UNDITHERED)], x)
+    }
+}
+
+/// The number of thresholds at or below x (NaN thresholds, at the end,
+/// count as above): a branch-free binary search, t[..i] ≤ x after each
+/// step.
+#[inline]
+fn search(t: &[f32; 256], x: f32) -> u8 {
+    let mut i = 0usize;
+    for step in [128, 64, 32, 16, 8, 4, 2, 1] {
+        if t[i + step - 1] <= x {
+            i += step;
+        }
+    }
+    i as u8
 }
 
 /// The smallest f32 x ≥ 0 with [`tone_quantize`]`(x, d) ≥ q` (NaN if none
@@ -577,6 +662,30 @@ mod tests {
             }
         }
         assert!(worst <= 2e-6, "{worst}");
+    }
+
+    #[test]
+    fn tone_buckets_equal_the_search() {
+        // Around every threshold of every dither index (±64 ulps), on a
+        // log-spaced sweep and at the odd values: the bucketed lookup is
+        // the binary search's level, in at most four comparisons.
+        let table = ToneTable::get();
+        assert!(
+            table.bucketed,
+            "more than {BUCKET_STEPS} levels in a bucket"
+        );
+        let mut xs = vec![f32::NAN, -1.0, -0.0, 0.0, f32::INFINITY, 1e4, 1e30];
+        xs.push(f32::MIN_POSITIVE);
+        xs.extend((0..200_000).map(|i| 10f32.powf(-9.0 + 14.0 * i as f32 / 200_000.0)));
+        for (d, t) in table.thresholds.iter().enumerate() {
+            let near = t
+                .iter()
+                .filter(|v| v.is_finite() && **v > 0.0)
+                .flat_map(|v| (0..129).map(move |k| f32::from_bits(v.to_bits() + k - 64)));
+            for x in xs.iter().copied().chain(near) {
+                assert_eq!(table.quantize(x, d), table.quantize_search(x, d), "{x} {d}");
+            }
+        }
     }
 
     #[test]
