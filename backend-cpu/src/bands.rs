@@ -72,6 +72,18 @@ pub enum PixelPass<'a> {
 }
 
 impl PixelPass<'_> {
+    /// Whether the pass only adds light to what lies behind it (it does
+    /// not hide or blend it).
+    pub fn is_additive(&self) -> bool {
+        match self {
+            PixelPass::Atmosphere(_)
+            | PixelPass::Sun(_)
+            | PixelPass::Corona { .. }
+            | PixelPass::Milkyway(_) => true,
+            PixelPass::Moon(_) | PixelPass::Texture(_) => false,
+        }
+    }
+
     /// Draws the pass into whole rows from row `y0` on of a `w`-wide image.
     fn band(&self, y0: usize, w: usize, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>]) {
         match self {

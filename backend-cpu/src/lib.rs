@@ -179,7 +179,10 @@ impl SkyRenderer for CpuRenderer {
 
 /// Runs the planned passes of `plan` back to front into `pixels` (and
 /// `valid`): runs of per-pixel passes band by band ([`bands::run`]), the
-/// point-source splats over the whole image between them. Returns each
+/// point-source splats over the whole image between them — or before a
+/// pending run that only adds light (the night frame's Milky Way: one run
+/// of Milky Way, Moon and atmosphere after the stars and planets instead
+/// of two, so that every pixel's direction is computed once). Returns each
 /// pass's stat; the directions' time is added to `geometry_ms`.
 fn execute(
     plan: &FramePlan,
@@ -213,7 +216,10 @@ fn execute(
             continue;
         }
         let point_sources = matches!(planned.effect, Effect::Stars | Effect::Planets);
-        if point_sources {
+        if point_sources && !runner.run.iter().all(|(_, p)| p.is_additive()) {
+            // A splat may move ahead of the pending passes only when they
+            // all add light, like the splat itself (the sums are the same
+            // up to the order of addition: float rounding).
             runner.flush(pixels);
         }
         let i = runner.stats.len();
