@@ -376,9 +376,9 @@ pub fn tone_quantize(x: f32, d: f32) -> u8 {
 #[derive(Debug)]
 pub struct ToneTable {
     /// Per dither index (64 Bayer levels, then [`UNDITHERED`]): the
-    /// threshold of level q at index q − 1; index 255 is NaN (never
+    /// threshold of level q at index q − 1; from index 255 on NaN (never
     /// reached).
-    thresholds: Vec<[f32; 256]>,
+    thresholds: Vec<[f32; LEVELS_PADDED]>,
     /// The bucket index ([`BUCKET_SHIFT`]) of the first bucket.
     bucket0: u32,
     /// Per bucket of exposed values: a level at or below the level of
@@ -394,6 +394,10 @@ pub struct ToneTable {
 /// values for x ≥ 0): 2²³⁻¹⁷ = 64 buckets per octave, about one 8-bit
 /// level per bucket where the levels are densest.
 const BUCKET_SHIFT: u32 = 17;
+
+/// Thresholds per dither index: levels 1–255, then NaN up to
+/// [`BUCKET_STEPS`] past the last.
+const LEVELS_PADDED: usize = 256 + BUCKET_STEPS;
 
 /// Thresholds compared above a bucket's first level: the most levels any
 /// bucket spans for some dither index (3 with the curve and buckets here;
@@ -411,10 +415,10 @@ impl ToneTable {
     /// rows), and a parallel initialiser could then steal another row's
     /// task on the same thread and re-enter the initialisation.
     fn new() -> ToneTable {
-        let thresholds: Vec<[f32; 256]> = (0..=UNDITHERED)
+        let thresholds: Vec<[f32; LEVELS_PADDED]> = (0..=UNDITHERED)
             .map(|di| {
                 let d = dither_offset(di);
-                let mut t = [f32::NAN; 256];
+                let mut t = [f32::NAN; LEVELS_PADDED];
                 for q in 1..=255u8 {
                     t[q as usize - 1] = threshold(q, d);
                 }
@@ -476,12 +480,15 @@ impl ToneTable {
         };
         let k = ((bits >> BUCKET_SHIFT).saturating_sub(self.bucket0) as usize)
             .min(self.start.len() - 1);
-        let mut i = self.start[k] as usize;
-        for _ in 0..BUCKET_STEPS {
-            // t[255] is NaN: i stops at 255.
-            i += usize::from(t[i.min(255)] <= x);
+        // The next BUCKET_STEPS thresholds are sorted: the count of those
+        // at or below x is the scan's count, from loads that do not wait
+        // on each other (t[255..] is NaN: the level stops at 255).
+        let i = self.start[k] as usize;
+        let mut q = i;
+        for j in 0..BUCKET_STEPS {
+            q += usize::from(t[i + j] <= x);
         }
-        i as u8
+        q as u8
     }
 
     /// [`Self::quantize`] by a binary search of the thresholds (the
@@ -495,7 +502,7 @@ impl ToneTable {
 /// count as above): a branch-free binary search, t[..i] ≤ x after each
 /// step.
 #[inline]
-fn search(t: &[f32; 256], x: f32) -> u8 {
+fn search(t: &[f32; LEVELS_PADDED], x: f32) -> u8 {
     let mut i = 0usize;
     for step in [128, 64, 32, 16, 8, 4, 2, 1] {
         if t[i + step - 1] <= x {
