@@ -167,7 +167,11 @@ impl MilkyWayMap {
         let fv = 0.5 - dec * (1.0 / std::f32::consts::PI);
         let x = fu * self.w as f32 - 0.5;
         let y = (fv * self.h as f32 - 0.5).clamp(0.0, (self.h - 1) as f32);
-        let (x0, y0) = (x.floor(), y.floor());
+        // floor(x) for x ≥ −1 (x ≥ −0.5 here) and floor(y) for y ≥ 0 by
+        // truncation: exact, without a call to the C library's `floorf`
+        // (no SSE4.1 rounding instruction in the baseline target).
+        let x0 = if x < 0.0 { -1.0 } else { (x as usize) as f32 };
+        let y0 = (y as usize) as f32;
         let (tx, ty) = (x - x0, y - y0);
         let xi0 = if x0 < 0.0 {
             self.w - 1

@@ -632,7 +632,13 @@ impl SkyView {
     pub fn radiance_at_row(&self, dir: Vec3, sun: Vec3, v: f32) -> [f32; 3] {
         let cross = dir.x * sun.y - dir.y * sun.x;
         let dot = dir.x * sun.x + dir.y * sun.y;
-        let az = crate::angle::atan2(cross.abs(), dot);
+        self.radiance_at(crate::angle::atan2(cross.abs(), dot), v)
+    }
+
+    /// [`Self::radiance`] above the horizon at azimuth `az` from the Sun
+    /// (radians, 0–π) and the row coordinate `v`.
+    #[inline]
+    pub fn radiance_at(&self, az: f32, v: f32) -> [f32; 3] {
         let u = tex_from_unit(az / std::f32::consts::PI, self.lut.w);
         self.lut.sample_rgb(u, v)
     }
