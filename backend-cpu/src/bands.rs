@@ -127,6 +127,7 @@ pub fn run(
     passes: &[PixelPass],
 ) -> RunTimes {
     let t0 = Clock::now();
+    himmel_skymodel::frame::pixels::count_direction_walk();
     let w = directions.size().0.max(1);
     let chunk = BAND_ROWS * w;
     let zero = || vec![0.0f64; passes.len() + 1];

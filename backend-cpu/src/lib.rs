@@ -156,8 +156,7 @@ impl SkyRenderer for CpuRenderer {
         let mut pixels: Vec<[f32; 3]> = (0..w * h).into_par_iter().map(|_| [0.0f32; 3]).collect();
         let mut valid = vec![false; w * h];
         let mut geometry_ms = ms(tg);
-        let stats = execute(&plan, scene, &mut pixels, &mut valid, &mut geometry_ms)?;
-        let mut stats = stats;
+        let mut stats = execute(&plan, scene, &mut pixels, &mut valid, &mut geometry_ms)?;
         stats.extend(PassStat::moon_eclipse(state));
         let lights = plan.observer_lights(scene, state, &mut CpuSkyViews)?;
         Ok(RenderOutput {

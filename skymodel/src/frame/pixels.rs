@@ -18,11 +18,19 @@ thread_local! {
     static DIRECTION_BUFFERS: Cell<usize> = const { Cell::new(0) };
 }
 
-/// How many full per-pixel direction buffers ([`PixelDirections::buffer`])
-/// this thread has built: a GPU backend builds none (its shaders derive
-/// each pixel's direction), which tests assert through this count.
+/// How many times this thread has had every pixel's direction computed
+/// on the CPU: full buffers ([`PixelDirections::buffer`]) and band-by-band
+/// walks over the image ([`count_direction_walk`], the CPU backend). A GPU
+/// backend computes none (its shaders derive each pixel's direction),
+/// which tests assert through this count.
 pub fn direction_buffers_built() -> usize {
     DIRECTION_BUFFERS.with(Cell::get)
+}
+
+/// Counts one walk over every pixel's direction that keeps no buffer (a
+/// CPU frame's bands of rows; see [`direction_buffers_built`]).
+pub fn count_direction_walk() {
+    DIRECTION_BUFFERS.with(|c| c.set(c.get() + 1));
 }
 
 /// A camera's pixel-centre directions (ENU, unit; `None` outside the
