@@ -26,14 +26,22 @@ pub fn cpu_sky_views_computed() -> usize {
     CPU_SKY_VIEWS.with(Cell::get)
 }
 
-/// Computes a sky-view LUT on all cores (its rows in parallel).
+/// Computes a sky-view LUT on all cores (its rows in parallel); a view
+/// that is provably black (the sunlit sky of a night with the Sun far
+/// below the horizon, [`SkyView::in_earth_shadow`]) is filled with zeros,
+/// which is what its march would give.
 pub fn cpu_sky_view(luts: &AtmosphereLuts, input: &SkyViewInput) -> SkyView {
     use rayon::prelude::*;
     CPU_SKY_VIEWS.with(|c| c.set(c.get() + 1));
-    let rows = (0..luts.config.sky_view_h)
-        .into_par_iter()
-        .map(|j| SkyView::row(luts, input, j))
-        .collect();
+    let (w, h) = (luts.config.sky_view_w, luts.config.sky_view_h);
+    let rows = if SkyView::in_earth_shadow(luts, input) {
+        vec![vec![[0.0f32; 3]; w]; h]
+    } else {
+        (0..h)
+            .into_par_iter()
+            .map(|j| SkyView::row(luts, input, j))
+            .collect()
+    };
     SkyView::from_rows(luts, input, rows)
 }
 
