@@ -274,21 +274,17 @@ fn twilight_zenith_colour_is_smooth() {
 fn a_sky_view_in_the_earths_shadow_is_black() {
     // Wherever the shadow test holds, the full march (the reference, one
     // thread) gives zero in every texel and on the ground, so the CPU path
-    // may fill the view with zeros; it holds for the moonlit night's Sun
-    // (−39°) and not in twilight.
+    // may fill the view with zeros; it holds for a Sun at the nadir and
+    // never in twilight. (How far up it holds depends on where the
+    // multiple-scattering LUT is zero: with these LUTs only near the
+    // nadir; with the command line's cached LUTs at −42°, not at −39°.)
     let luts = default_luts();
     let input = |alt_deg: f32, h_km: f32| SkyViewInput {
         observer_altitude_km: h_km,
         sun_sin_elevation: alt_deg.to_radians().sin(),
         irradiance_scale: 1.0,
     };
-    let cases = [
-        (-90.0, 0.0),
-        (-39.4, 0.0),
-        (-39.4, 3.0),
-        (-24.0, 0.0),
-        (-21.5, 0.0),
-    ];
+    let cases = [(-90.0, 0.0), (-90.0, 3.0), (-60.0, 0.0), (-42.4, 0.0)];
     let mut dark = 0;
     for (alt, h) in cases {
         let i = input(alt, h);
@@ -302,8 +298,7 @@ fn a_sky_view_in_the_earths_shadow_is_black() {
             assert_eq!(sv.ground_rgb, [0.0; 3], "{alt}° at {h} km");
         }
     }
-    assert!(dark >= 3, "{dark}");
-    assert!(SkyView::in_earth_shadow(luts, &input(-39.4, 0.0)));
+    assert!(dark >= 2, "{dark}");
     for alt in [-18.0, -12.0, -6.0, 0.0, 30.0] {
         assert!(!SkyView::in_earth_shadow(luts, &input(alt, 0.0)), "{alt}°");
     }
