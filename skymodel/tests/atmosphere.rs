@@ -277,7 +277,7 @@ fn a_sky_view_in_the_earths_shadow_is_black() {
     // may fill the view with zeros; it holds for a Sun at the nadir and
     // never in twilight. (How far up it holds depends on where the
     // multiple-scattering LUT is zero: with these LUTs only near the
-    // nadir; with the command line's cached LUTs at −42°, not at −39°.)
+    // nadir; for the command line's default scene at −42.4°, not −39.4°.)
     let luts = default_luts();
     let input = |alt_deg: f32, h_km: f32| SkyViewInput {
         observer_altitude_km: h_km,
