@@ -8,9 +8,10 @@
 //! [`BAND_ROWS`] rows computes its directions into a small per-thread
 //! buffer ([`PixelDirections::row`], in cache) and applies every pass of
 //! the run to it, in order. Each pixel sees the same operations in the
-//! same order as with whole-image passes over a direction buffer, so the
-//! image is the same bit for bit; what goes is the 33 MB per-frame
-//! direction buffer (at 1920 × 1080) and the passes' trips through it.
+//! same order as when the run's passes go one after the other over a
+//! direction buffer, so a run's result is the same bit for bit; what goes
+//! is the 33 MB per-frame direction buffer (at 1920 × 1080) and the
+//! passes' trips through it.
 //!
 //! Pass times: each band times its direction rows and each pass with the
 //! monotonic clock; a run's wall time is shared among its passes (and the

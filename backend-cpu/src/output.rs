@@ -123,8 +123,12 @@ fn develop_and_encode(
     k: f32,
     settings: &CameraSettings,
 ) -> Result<(), png::EncodingError> {
-    let (width, height) = (img.width.max(1), img.height);
-    let mut writer = png_encoder(w, img.width as u32, height as u32).write_header()?;
+    let (width, height) = (img.width, img.height);
+    if width == 0 || height == 0 {
+        // Nothing to develop: the encoder reports the empty image.
+        return encode_png(w, width as u32, height as u32, &[]);
+    }
+    let mut writer = png_encoder(w, width as u32, height as u32).write_header()?;
     let mut stream = writer.stream_writer_with_size(1 << 18)?;
     let bands = height.div_ceil(PIPELINE_ROWS);
     let rows = |b: usize| b * PIPELINE_ROWS..height.min((b + 1) * PIPELINE_ROWS);
