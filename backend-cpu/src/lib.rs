@@ -10,6 +10,7 @@
 //! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files;
 //! * [`overlay`] — the constellation figures and labels drawn into a PNG.
 
+pub mod bands;
 pub mod moon_pass;
 pub mod night_pass;
 pub mod output;
@@ -29,7 +30,11 @@ use himmel_skymodel::frame::{
 };
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
 use himmel_skymodel::{Effect, Scene, SkyState};
+
+use bands::PixelPass;
+use moon_pass::MoonDraw;
 use rayon::prelude::*;
+use sun_pass::SunDraw;
 
 pub use himmel_skymodel::frame::luts::default_cache_dir;
 
@@ -130,21 +135,6 @@ fn ms(t: Clock) -> f64 {
     t.elapsed().as_secs_f64() * 1e3
 }
 
-/// Adds the sky's radiance to every pixel.
-fn atmosphere_pass(pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>], sky: &SkyLight) {
-    pixels
-        .par_iter_mut()
-        .zip(dirs.par_iter())
-        .for_each(|(p, d)| {
-            if let Some(d) = d {
-                let l = sky.radiance(*d);
-                for k in 0..3 {
-                    p[k] += l[k];
-                }
-            }
-        });
-}
-
 impl SkyRenderer for CpuRenderer {
     fn name(&self) -> &'static str {
         "cpu"
@@ -155,72 +145,18 @@ impl SkyRenderer for CpuRenderer {
         let cam = scene.camera;
         let (w, h) = cam.image_size();
         let (w, h) = (w as usize, h as usize);
-
-        // Geometry: one direction per pixel centre.
-        let tg = Clock::now();
-        let dirs = PixelDirections::new(&cam).buffer();
+        if plan.runs(Effect::Atmosphere) {
+            // Computed here (timed as `sky_view_ms`), read by the pass.
+            plan.sky_light(&mut CpuSkyViews)?;
+        }
         // The image buffer, written on all cores so that its pages are
         // mapped here and not by whichever pass touches them first (the
         // sparse star splats would otherwise pay for the page faults).
+        let tg = Clock::now();
         let mut pixels: Vec<[f32; 3]> = (0..w * h).into_par_iter().map(|_| [0.0f32; 3]).collect();
-        let geometry_ms = ms(tg);
-        let valid: Vec<bool> = dirs.iter().map(Option::is_some).collect();
-        let mut stats = Vec::new();
-        let r0 = plan.observer_radius_km;
-        for planned in plan.passes.clone() {
-            if !planned.run {
-                stats.push(PassStat {
-                    name: planned.effect.name().into(),
-                    ran: false,
-                    ms: None,
-                    reason: planned.reason.as_ref().map(ToString::to_string),
-                });
-                continue;
-            }
-            let t0 = Clock::now();
-            let luts = plan.luts.clone();
-            match planned.effect {
-                Effect::Atmosphere => {
-                    if let Some(sky) = plan.sky_light(&mut CpuSkyViews)? {
-                        atmosphere_pass(&mut pixels, &dirs, sky);
-                    }
-                }
-                Effect::Sun => {
-                    if let Some(sun) = &plan.sun {
-                        sun_pass::render(&mut pixels, &dirs, &cam, sun, luts.as_deref(), r0);
-                    }
-                    if let Some(c) = &plan.corona {
-                        sun_pass::render_corona(&mut pixels, &dirs, c, luts.as_deref(), r0);
-                    }
-                }
-                Effect::Moon => {
-                    if let Some(m) = &plan.moon {
-                        moon_pass::render(&mut pixels, &dirs, w, &cam, m);
-                    }
-                }
-                Effect::Milkyway | Effect::Stars | Effect::Planets => {
-                    if let Some(n) = &plan.night {
-                        match planned.effect {
-                            Effect::Milkyway => night_pass::milkyway(n, &mut pixels, &dirs),
-                            Effect::Stars => night_pass::splat_all(n, &mut pixels, scene, &n.stars),
-                            _ => night_pass::splat_all(n, &mut pixels, scene, &n.planets),
-                        }
-                    }
-                }
-                Effect::Texture => {
-                    if let Some(t) = &plan.texture {
-                        texture_pass::render(&mut pixels, &dirs, t);
-                    }
-                }
-                other => return Err(RenderError::PassNotAvailable(other)),
-            }
-            stats.push(PassStat {
-                name: planned.effect.name().into(),
-                ran: true,
-                ms: Some(ms(t0)),
-                reason: None,
-            });
-        }
+        let mut valid = vec![false; w * h];
+        let mut geometry_ms = ms(tg);
+        let mut stats = execute(&plan, scene, &mut pixels, &mut valid, &mut geometry_ms)?;
         stats.extend(PassStat::moon_eclipse(state));
         let lights = plan.observer_lights(scene, state, &mut CpuSkyViews)?;
         Ok(RenderOutput {
@@ -237,5 +173,136 @@ impl SkyRenderer for CpuRenderer {
             sky_view_ms: plan.sky_view_ms,
             lights,
         })
+    }
+}
+
+/// Runs the planned passes of `plan` back to front into `pixels` (and
+/// `valid`): runs of per-pixel passes band by band ([`bands::run`]), the
+/// point-source splats over the whole image between them — or before a
+/// pending run that only adds light (the night frame's Milky Way: one run
+/// of Milky Way, Moon and atmosphere after the stars and planets instead
+/// of two, so that every pixel's direction is computed once). Returns each
+/// pass's stat; the directions' time is added to `geometry_ms`.
+fn execute(
+    plan: &FramePlan,
+    scene: &Scene,
+    pixels: &mut [[f32; 3]],
+    valid: &mut [bool],
+    geometry_ms: &mut f64,
+) -> Result<Vec<PassStat>, RenderError> {
+    let cam = &scene.camera;
+    let (w, h) = cam.image_size();
+    let (w, h) = (w as usize, h as usize);
+    let (luts, r0) = (plan.luts.as_deref(), plan.observer_radius_km);
+    let mut runner = Runner {
+        directions: PixelDirections::new(cam),
+        run: Vec::new(),
+        stats: Vec::new(),
+        valid,
+        valid_done: false,
+        geometry_ms: 0.0,
+    };
+    for planned in &plan.passes {
+        let name = planned.effect.name().into();
+        if !planned.run {
+            let reason = planned.reason.as_ref().map(ToString::to_string);
+            runner.stats.push(PassStat {
+                name,
+                ran: false,
+                ms: None,
+                reason,
+            });
+            continue;
+        }
+        let point_sources = matches!(planned.effect, Effect::Stars | Effect::Planets);
+        if point_sources && !runner.run.iter().all(|(_, p)| p.is_additive()) {
+            // A splat may move ahead of the pending passes only when they
+            // all add light, like the splat itself (the sums are the same
+            // up to the order of addition: float rounding).
+            runner.flush(pixels);
+        }
+        let i = runner.stats.len();
+        let t0 = Clock::now();
+        let run = &mut runner.run;
+        match planned.effect {
+            Effect::Atmosphere => run.extend(
+                plan.sky_light
+                    .as_ref()
+                    .map(|s| (i, PixelPass::Atmosphere(s))),
+            ),
+            Effect::Sun => {
+                if let Some(sun) = &plan.sun {
+                    run.push((i, PixelPass::Sun(SunDraw { cam, sun, luts, r0 })));
+                }
+                if let Some(corona) = &plan.corona {
+                    run.push((i, PixelPass::Corona { corona, luts, r0 }));
+                }
+            }
+            Effect::Moon => run.extend(
+                plan.moon
+                    .as_ref()
+                    .map(|m| (i, PixelPass::Moon(MoonDraw::new(cam, m, w, h)))),
+            ),
+            Effect::Milkyway => {
+                run.extend(plan.night.as_ref().map(|n| (i, PixelPass::Milkyway(n))))
+            }
+            Effect::Texture => {
+                run.extend(plan.texture.as_ref().map(|t| (i, PixelPass::Texture(t))))
+            }
+            Effect::Stars | Effect::Planets => {
+                if let Some(n) = &plan.night {
+                    let sources = if planned.effect == Effect::Stars {
+                        &n.stars
+                    } else {
+                        &n.planets
+                    };
+                    night_pass::splat_all(n, pixels, scene, sources);
+                }
+            }
+            other => return Err(RenderError::PassNotAvailable(other)),
+        }
+        runner.stats.push(PassStat {
+            name,
+            ran: true,
+            ms: Some(ms(t0)),
+            reason: None,
+        });
+    }
+    runner.flush(pixels);
+    if !runner.valid_done {
+        // No per-pixel pass ran: the valid pixels still come from the directions.
+        runner.valid_done = true;
+        runner.geometry_ms += bands::run(&runner.directions, pixels, runner.valid, &[]).geometry_ms;
+    }
+    *geometry_ms += runner.geometry_ms;
+    Ok(runner.stats)
+}
+
+/// The state of [`execute`]: the pending run of per-pixel passes (each
+/// with its stat's index) and the stats so far.
+struct Runner<'a, 'v> {
+    directions: PixelDirections<'a>,
+    run: Vec<(usize, PixelPass<'a>)>,
+    stats: Vec<PassStat>,
+    valid: &'v mut [bool],
+    valid_done: bool,
+    geometry_ms: f64,
+}
+
+impl Runner<'_, '_> {
+    /// Runs the pending per-pixel passes band by band and adds their
+    /// shares of the wall time to their stats.
+    fn flush(&mut self, pixels: &mut [[f32; 3]]) {
+        if self.run.is_empty() {
+            return;
+        }
+        let passes: Vec<PixelPass> = self.run.iter().map(|(_, p)| *p).collect();
+        let t = bands::run(&self.directions, pixels, self.valid, &passes);
+        self.valid_done = true;
+        self.geometry_ms += t.geometry_ms;
+        for ((i, _), ms) in self.run.iter().zip(t.pass_ms) {
+            *self.stats[*i].ms.get_or_insert(0.0) += ms;
+        }
+        self.run.clear();
     }
 }

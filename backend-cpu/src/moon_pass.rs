@@ -12,7 +12,6 @@ use glam::Vec3;
 use himmel_skymodel::frame::MoonFrame;
 use himmel_skymodel::moon::MoonShader;
 use himmel_skymodel::{Camera, Projection};
-use rayon::prelude::*;
 
 /// Draws the Moon of the frame plan into `pixels` (row-major, width `w`)
 /// for the pixel directions `dirs`.
@@ -23,20 +22,48 @@ pub fn render(
     cam: &Camera,
     moon: &MoonFrame,
 ) {
-    let shader = &moon.shader;
-    let (pixel, cos_bound, n) = (moon.pixel, moon.cos_bound, moon.supersampling);
-    let h = pixels.len() / w.max(1);
-    let (x0, x1, y0, y1) = bounding_box(cam, shader, w, h);
-    if x0 >= x1 || y0 >= y1 {
-        return;
+    let w = w.max(1);
+    let draw = MoonDraw::new(cam, moon, w, pixels.len() / w);
+    let chunk = crate::bands::BAND_ROWS * w;
+    crate::bands::par_chunks(pixels, dirs, chunk, |i0, p, d| draw.band(i0 / w, p, d));
+}
+
+/// The Moon pass of one frame with its pixel bounding box, drawn band by
+/// band ([`MoonDraw::band`]).
+#[derive(Debug, Clone, Copy)]
+pub struct MoonDraw<'a> {
+    cam: &'a Camera,
+    moon: &'a MoonFrame,
+    w: usize,
+    /// [x0, x1) × [y0, y1): the pixels that may show the disk.
+    bbox: (usize, usize, usize, usize),
+}
+
+impl<'a> MoonDraw<'a> {
+    /// The Moon of `moon` in `cam`'s `w` × `h` image.
+    pub fn new(cam: &'a Camera, moon: &'a MoonFrame, w: usize, h: usize) -> Self {
+        let bbox = bounding_box(cam, &moon.shader, w, h);
+        MoonDraw { cam, moon, w, bbox }
     }
-    pixels
-        .par_chunks_mut(w)
-        .zip(dirs.par_chunks(w))
-        .enumerate()
-        .skip(y0)
-        .take(y1 - y0)
-        .for_each(|(y, (row, drow))| {
+
+    /// Draws the disk into whole rows from row `y0` on: `pixels` and their
+    /// directions `dirs`.
+    pub fn band(&self, y0: usize, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>]) {
+        let (x0, x1, by0, by1) = self.bbox;
+        let (shader, w) = (&self.moon.shader, self.w);
+        let (pixel, cos_bound, n) = (
+            self.moon.pixel,
+            self.moon.cos_bound,
+            self.moon.supersampling,
+        );
+        if x0 >= x1 {
+            return;
+        }
+        for (r, (row, drow)) in pixels.chunks_mut(w).zip(dirs.chunks(w)).enumerate() {
+            let y = y0 + r;
+            if y < by0 || y >= by1 || row.len() < x1 || drow.len() < x1 {
+                continue;
+            }
             for x in x0..x1 {
                 let Some(d) = drow[x] else { continue };
                 if d.dot(shader.centre) < cos_bound {
@@ -49,7 +76,7 @@ pub fn render(
                     }
                     shader.shade(d, pixel)
                 } else {
-                    supersample(cam, shader, x, y, n)
+                    supersample(self.cam, shader, x, y, n)
                 };
                 if let Some((l, cov)) = shaded {
                     let p = &mut row[x];
@@ -58,7 +85,8 @@ pub fn render(
                     }
                 }
             }
-        });
+        }
+    }
 }
 
 /// Mean radiance of the disk's part of pixel (x, y) and its coverage, from

@@ -104,19 +104,20 @@ pub fn splat_all(
 
 /// The Milky Way pass: the diffuse night sky, extinguished, above the horizon.
 pub fn milkyway(frame: &NightFrame, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>]) {
-    pixels
-        .par_iter_mut()
-        .zip(dirs.par_iter())
-        .with_min_len(4096)
-        .for_each(|(p, d)| {
-            let Some(d) = *d else { return };
-            if d.z < 0.0 {
-                return;
-            }
-            let l = frame.background.radiance(d);
-            let t = frame.extinction.rgb(d);
-            for k in 0..3 {
-                p[k] += l[k] * t[k];
-            }
-        });
+    crate::bands::par_chunks(pixels, dirs, 4096, |_, p, d| milkyway_band(frame, p, d));
+}
+
+/// [`milkyway`] over a band of pixels and their directions.
+pub fn milkyway_band(frame: &NightFrame, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>]) {
+    for (p, d) in pixels.iter_mut().zip(dirs) {
+        let Some(d) = *d else { continue };
+        if d.z < 0.0 {
+            continue;
+        }
+        let l = frame.background.radiance(d);
+        let t = frame.extinction.rgb(d);
+        for k in 0..3 {
+            p[k] += l[k] * t[k];
+        }
+    }
 }

@@ -4,7 +4,7 @@
 use std::io::Write;
 use std::path::Path;
 
-use himmel_skymodel::camera::{develop_pixel, exposure_ev100, exposure_scale, CameraSettings};
+use himmel_skymodel::camera::{develop_row, exposure_ev100, exposure_scale, CameraSettings};
 use himmel_skymodel::file::write_file;
 use himmel_skymodel::HdrImage;
 use rayon::prelude::*;
@@ -98,9 +98,66 @@ pub fn read_exr(path: &Path) -> Result<(usize, usize, Vec<[f32; 3]>), String> {
 }
 
 /// Develops with the camera model and writes a PNG through [`write_file`];
-/// returns the EV100 used.
+/// returns the EV100 used. Bands of [`PIPELINE_ROWS`] rows are developed
+/// on all cores while the encoder compresses the band before (the same
+/// pixels as [`write_png_overlaid`], which develops the whole image first).
 pub fn write_png(path: &Path, img: &HdrImage, settings: &CameraSettings) -> Result<f64, String> {
-    write_png_overlaid(path, img, settings, |_| Ok(()))
+    let ev = exposure_ev100(&img.pixels, &img.valid, settings);
+    let k = exposure_scale(ev);
+    if img.pixels.len() != img.width * img.height || img.valid.len() != img.pixels.len() {
+        return Err(format!("{}: image buffer size mismatch", path.display()));
+    }
+    write_file(path, |w| develop_and_encode(w, img, k, settings)).map_err(|e| e.to_string())?;
+    Ok(ev)
+}
+
+/// Rows per band of [`write_png`]'s pipeline (a 1920-pixel image: 34
+/// bands of 184 kB).
+const PIPELINE_ROWS: usize = 32;
+
+/// Develops `img` at exposure scale `k` band by band and encodes each band
+/// ([`png_encoder`]) while the next is developed.
+fn develop_and_encode(
+    w: impl Write + Send,
+    img: &HdrImage,
+    k: f32,
+    settings: &CameraSettings,
+) -> Result<(), png::EncodingError> {
+    let (width, height) = (img.width, img.height);
+    if width == 0 || height == 0 {
+        // Nothing to develop: the encoder reports the empty image.
+        return encode_png(w, width as u32, height as u32, &[]);
+    }
+    let mut writer = png_encoder(w, width as u32, height as u32).write_header()?;
+    let mut stream = writer.stream_writer_with_size(1 << 18)?;
+    let bands = height.div_ceil(PIPELINE_ROWS);
+    let rows = |b: usize| b * PIPELINE_ROWS..height.min((b + 1) * PIPELINE_ROWS);
+    // Develops band b into `out` (its rows' RGB bytes; black where not valid).
+    let develop = |b: usize, out: &mut Vec<u8>| {
+        let r = rows(b);
+        out.clear();
+        out.resize(r.len() * width * 3, 0);
+        out.par_chunks_mut(width * 3).zip(r).for_each(|(row, y)| {
+            let px = y * width..(y + 1) * width;
+            develop_row(&img.pixels[px.clone()], &img.valid[px], y, k, settings, row)
+        });
+    };
+    let (mut current, mut next) = (Vec::new(), Vec::new());
+    develop(0, &mut current);
+    for b in 0..bands {
+        let (written, ()) = rayon::join(
+            || stream.write_all(&current),
+            || {
+                if b + 1 < bands {
+                    develop(b + 1, &mut next)
+                }
+            },
+        );
+        written?;
+        std::mem::swap(&mut current, &mut next);
+    }
+    stream.finish()?;
+    writer.finish()
 }
 
 /// [`write_png`] with `overlay` drawing into the developed 8-bit image
@@ -116,20 +173,10 @@ pub fn write_png_overlaid(
     let k = exposure_scale(ev);
     let w = img.width.max(1);
     let mut rgb8 = vec![0u8; img.pixels.len() * 3];
-    rgb8.par_chunks_mut(w * 3).enumerate().for_each(|(y, row)| {
-        for x in 0..w {
-            let i = y * w + x;
-            if i < img.pixels.len() && img.valid[i] {
-                row[x * 3..x * 3 + 3].copy_from_slice(&develop_pixel(
-                    img.pixels[i],
-                    x,
-                    y,
-                    k,
-                    settings,
-                ));
-            }
-        }
-    });
+    rgb8.par_chunks_mut(w * 3)
+        .zip(img.pixels.par_chunks(w).zip(img.valid.par_chunks(w)))
+        .enumerate()
+        .for_each(|(y, (row, (px, valid)))| develop_row(px, valid, y, k, settings, row));
     let rgb8 = rgb8
         .get_mut(..img.width * img.height * 3)
         .ok_or_else(|| format!("{}: image buffer size mismatch", path.display()))?;
@@ -141,21 +188,27 @@ pub fn write_png_overlaid(
     Ok(ev)
 }
 
-/// Encodes 8-bit RGB as PNG (fdeflate's fast compression, the Up filter:
-/// a fifth of the adaptive filter's row work for a sky's smooth rows) and
-/// finishes the stream, so that no error is lost in a drop.
+/// The PNG encoder of the images: 8-bit RGB, fdeflate's fast compression,
+/// the Up filter (a fifth of the adaptive filter's row work for a sky's
+/// smooth rows).
+fn png_encoder<W: Write>(w: W, width: u32, height: u32) -> png::Encoder<'static, W> {
+    let mut enc = png::Encoder::new(w, width, height);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Fast);
+    enc.set_filter(png::Filter::Up);
+    enc
+}
+
+/// Encodes 8-bit RGB as PNG ([`png_encoder`]) and finishes the stream, so
+/// that no error is lost in a drop.
 fn encode_png(
     w: impl Write,
     width: u32,
     height: u32,
     rgb8: &[u8],
 ) -> Result<(), png::EncodingError> {
-    let mut enc = png::Encoder::new(w, width, height);
-    enc.set_color(png::ColorType::Rgb);
-    enc.set_depth(png::BitDepth::Eight);
-    enc.set_compression(png::Compression::Fast);
-    enc.set_filter(png::Filter::Up);
-    let mut writer = enc.write_header()?;
+    let mut writer = png_encoder(w, width, height).write_header()?;
     writer.write_image_data(rgb8)?;
     writer.finish()
 }

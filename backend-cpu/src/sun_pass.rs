@@ -10,7 +10,6 @@ use himmel_skymodel::atmosphere::AtmosphereLuts;
 use himmel_skymodel::frame::{CoronaFrame, SunFrame};
 use himmel_skymodel::spectrum::Spectrum;
 use himmel_skymodel::Camera;
-use rayon::prelude::*;
 
 /// Adds the Sun's disk to `pixels` (row-major, the camera's image) for the
 /// pixel directions `dirs`; `luts` (from radius `r0`, km) extinguish it.
@@ -22,18 +21,39 @@ pub fn render(
     luts: Option<&AtmosphereLuts>,
     r0: f32,
 ) {
+    let disk = SunDraw { cam, sun, luts, r0 };
     let w = cam.image_size().0 as usize;
-    let n = sun.supersampling;
-    let (centre, cos_margin) = (sun.disk.centre, sun.cos_margin);
-    pixels
-        .par_iter_mut()
-        .zip(dirs.par_iter())
-        .enumerate()
-        .for_each(|(i, (p, d))| {
-            let Some(d) = d else { return };
+    let chunk = crate::bands::BAND_ROWS * w;
+    crate::bands::par_chunks(pixels, dirs, chunk, |i0, p, d| disk.band(i0, p, d));
+}
+
+/// The Sun pass of one frame, drawn band by band ([`SunDraw::band`]).
+#[derive(Debug, Clone, Copy)]
+pub struct SunDraw<'a> {
+    /// The camera whose image is drawn.
+    pub cam: &'a Camera,
+    /// The frame plan's Sun.
+    pub sun: &'a SunFrame,
+    /// The atmosphere LUTs that extinguish the disk, if any.
+    pub luts: Option<&'a AtmosphereLuts>,
+    /// The observer's radius, km.
+    pub r0: f32,
+}
+
+impl SunDraw<'_> {
+    /// Adds the disk to `pixels`, the image's pixels from index `i0` on
+    /// (whole rows or a part of one), with their directions `dirs`.
+    pub fn band(&self, i0: usize, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>]) {
+        let (cam, sun) = (self.cam, self.sun);
+        let w = cam.image_size().0.max(1) as usize;
+        let n = sun.supersampling;
+        let (centre, cos_margin) = (sun.disk.centre, sun.cos_margin);
+        for (j, (p, d)) in pixels.iter_mut().zip(dirs).enumerate() {
+            let Some(d) = d else { continue };
             if d.dot(centre) < cos_margin {
-                return;
+                continue;
             }
+            let i = i0 + j;
             let (x, y) = ((i % w) as f64, (i / w) as f64);
             let mut acc = [0.0f32; 3];
             for sj in 0..n {
@@ -49,7 +69,8 @@ pub fn render(
                     if sd.z < 0.0 || !sun.disk.covers(sd) || behind_moon {
                         continue;
                     }
-                    let t = luts.map_or(Spectrum::ONE, |l| l.sun_transmittance(r0, sd.z));
+                    let luts = self.luts;
+                    let t = luts.map_or(Spectrum::ONE, |l| l.sun_transmittance(self.r0, sd.z));
                     let l = sun.disk.radiance_rgb(sd, &t);
                     for k in 0..3 {
                         acc[k] += l[k];
@@ -60,7 +81,8 @@ pub fn render(
             for c in 0..3 {
                 p[c] += acc[c] * k;
             }
-        });
+        }
+    }
 }
 
 /// Adds the inner corona of an eclipsed Sun to `pixels`.
@@ -71,15 +93,25 @@ pub fn render_corona(
     luts: Option<&AtmosphereLuts>,
     r0: f32,
 ) {
-    pixels
-        .par_iter_mut()
-        .zip(dirs.par_iter())
-        .for_each(|(p, d)| {
-            let Some(d) = *d else { return };
-            if let Some(c) = corona.radiance(d, luts, r0) {
-                for k in 0..3 {
-                    p[k] += c[k];
-                }
+    crate::bands::par_chunks(pixels, dirs, 4096, |_, p, d| {
+        corona_band(p, d, corona, luts, r0)
+    });
+}
+
+/// [`render_corona`] over a band of pixels and their directions.
+pub fn corona_band(
+    pixels: &mut [[f32; 3]],
+    dirs: &[Option<Vec3>],
+    corona: &CoronaFrame,
+    luts: Option<&AtmosphereLuts>,
+    r0: f32,
+) {
+    for (p, d) in pixels.iter_mut().zip(dirs) {
+        let Some(d) = *d else { continue };
+        if let Some(c) = corona.radiance(d, luts, r0) {
+            for k in 0..3 {
+                p[k] += c[k];
             }
-        });
+        }
+    }
 }

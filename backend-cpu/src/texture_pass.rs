@@ -5,16 +5,17 @@
 
 use glam::Vec3;
 use himmel_skymodel::frame::TextureFrame;
-use rayon::prelude::*;
 
 /// Draws the sky texture into `pixels` for the pixel directions `dirs`.
 pub fn render(pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>], texture: &TextureFrame) {
-    pixels
-        .par_iter_mut()
-        .zip(dirs.par_iter())
-        .for_each(|(p, d)| {
-            if let Some(d) = d {
-                *p = texture.over(*p, *d);
-            }
-        });
+    crate::bands::par_chunks(pixels, dirs, 4096, |_, p, d| band(p, d, texture));
+}
+
+/// [`render`] over a band of pixels and their directions.
+pub fn band(pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>], texture: &TextureFrame) {
+    for (p, d) in pixels.iter_mut().zip(dirs) {
+        if let Some(d) = d {
+            *p = texture.over(*p, *d);
+        }
+    }
 }

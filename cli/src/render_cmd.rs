@@ -596,10 +596,12 @@ pub(crate) fn render_frame(
                 overlay_ms.set(geometry_ms + t.elapsed().as_secs_f64() * 1e3);
                 r
             };
-            Some(
-                output::write_png_overlaid(output, &out.image, &settings, draw)
-                    .map_err(|e| write_error("--output", e))?,
-            )
+            // Without an overlay the camera stage and the encoder overlap.
+            let written = match overlay {
+                Some(_) => output::write_png_overlaid(output, &out.image, &settings, draw),
+                None => output::write_png(output, &out.image, &settings),
+            };
+            Some(written.map_err(|e| write_error("--output", e))?)
         }
     };
     Ok(WrittenFrame {

@@ -132,32 +132,87 @@ pub fn scotopic_luminance(rgb: [f32; 3]) -> f32 {
     (y * (1.33 * (1.0 + (y + z) / x) - 1.68)).max(0.0) as f32
 }
 
-/// Night vision: the mesopic blend of photopic colour and the rod image.
-pub fn night_vision(rgb: [f32; 3]) -> [f32; 3] {
-    let y = luminance(rgb);
-    // t = clamp((log10 Y + 2) / 2.5, 0, 1), without the logarithm where
-    // the clamp decides (log10 3.17 = 0.501, log10 0.0099 = −2.004).
+/// The mesopic blend weight of photopic vision at luminance `y` (cd/m²):
+/// the smoothstep of t = clamp((log10 Y + 2) / 2.5, 0, 1), without the
+/// logarithm where the clamp decides (log10 3.17 = 0.501, log10 0.0099 =
+/// −2.004).
+#[inline]
+fn photopic_weight(y: f32, log10: impl Fn(f32) -> f32) -> f32 {
     let t = if y >= 3.17 {
         1.0
     } else if y <= 0.0099 {
         0.0
     } else {
-        let l = (y.max(1e-12)).log10();
-        ((l + 2.0) / 2.5).clamp(0.0, 1.0)
+        ((log10(y) + 2.0) / 2.5).clamp(0.0, 1.0)
     };
-    let s = t * t * (3.0 - 2.0 * t);
+    t * t * (3.0 - 2.0 * t)
+}
+
+/// Blue-shifted rod tint (linear sRGB; divided by its luminance below).
+const ROD_TINT: [f32; 3] = [0.85, 0.97, 1.35];
+
+/// Night vision: the mesopic blend of photopic colour and the rod image
+/// (the reference: scotopic luminance in `f64`, the library's `log10`).
+pub fn night_vision_reference(rgb: [f32; 3]) -> [f32; 3] {
+    let s = photopic_weight(luminance(rgb), |y| y.max(1e-12).log10());
     if s >= 1.0 {
         return rgb;
     }
     let v = scotopic_luminance(rgb);
-    // Blue-shifted rod tint with unit luminance.
-    const TINT: [f32; 3] = [0.85, 0.97, 1.35];
-    let tl = luminance(TINT);
+    let tl = luminance(ROD_TINT);
     let mut out = [0.0; 3];
     for k in 0..3 {
-        out[k] = s * rgb[k] + (1.0 - s) * v * TINT[k] / tl;
+        out[k] = s * rgb[k] + (1.0 - s) * v * ROD_TINT[k] / tl;
     }
     out
+}
+
+/// [`night_vision_reference`] in `f32` for the camera stage: the scotopic
+/// luminance (Larson et al. 1997, eq. 2) from the same XYZ matrix in `f32`,
+/// the logarithm of [`log10_mesopic`]; within 2 × 10⁻⁶ of the reference
+/// relative to the pixel's largest channel (test
+/// `night_vision_matches_its_reference`), far below an 8-bit level.
+#[inline]
+pub fn night_vision(rgb: [f32; 3]) -> [f32; 3] {
+    let s = photopic_weight(luminance(rgb), log10_mesopic);
+    if s >= 1.0 {
+        return rgb;
+    }
+    let [r, g, b] = rgb;
+    let x = 0.412_456_4 * r + 0.357_576_1 * g + 0.180_437_5 * b;
+    let y = 0.212_672_9 * r + 0.715_152_2 * g + 0.072_175_0 * b;
+    let z = 0.019_333_9 * r + 0.119_192 * g + 0.950_304_1 * b;
+    let v = if x <= 0.0 || y <= 0.0 {
+        y.max(0.0)
+    } else {
+        (y * (1.33 * (1.0 + (y + z) / x) - 1.68)).max(0.0)
+    };
+    let tl = luminance(ROD_TINT);
+    let k = (1.0 - s) * v;
+    [
+        s * r + k * (ROD_TINT[0] / tl),
+        s * g + k * (ROD_TINT[1] / tl),
+        s * b + k * (ROD_TINT[2] / tl),
+    ]
+}
+
+/// log10 of a positive normal `f32` (the mesopic range 0.0099–3.17 and
+/// beyond), within 4 × 10⁻⁷ of the exact value (2 ulp at 10⁻³): y = 2ᵉ · m with
+/// m ∈ [√½, √2), ln m = 2 atanh z with z = (m − 1)/(m + 1), |z| ≤ 0.172,
+/// by its series to z⁷ (the next term, 2z⁹/9, is below 3 × 10⁻⁸).
+#[inline]
+pub fn log10_mesopic(y: f32) -> f32 {
+    let bits = y.to_bits();
+    let mut e = ((bits >> 23) & 0xff) as i32 - 127;
+    let mut m = f32::from_bits((bits & 0x007f_ffff) | 0x3f80_0000);
+    if m > std::f32::consts::SQRT_2 {
+        m *= 0.5;
+        e += 1;
+    }
+    let z = (m - 1.0) / (m + 1.0);
+    let z2 = z * z;
+    let ln_m = 2.0 * z * (1.0 + z2 * (1.0 / 3.0 + z2 * (0.2 + z2 * (1.0 / 7.0))));
+    (e as f32 * std::f32::consts::LN_2 + ln_m) * std::f32::consts::LOG10_E
 }
 
 /// The ACES filmic tone curve fit of Narkowicz (2015).
@@ -235,6 +290,19 @@ pub fn develop_pixel(
     k: f32,
     settings: &CameraSettings,
 ) -> [u8; 3] {
+    develop_with(ToneTable::get(), rgb, x, y, k, settings)
+}
+
+/// [`develop_pixel`] with the tone table given.
+#[inline]
+fn develop_with(
+    table: &ToneTable,
+    rgb: [f32; 3],
+    x: usize,
+    y: usize,
+    k: f32,
+    settings: &CameraSettings,
+) -> [u8; 3] {
     let rgb = if settings.night_vision {
         night_vision(rgb)
     } else {
@@ -245,12 +313,34 @@ pub fn develop_pixel(
     } else {
         UNDITHERED
     };
-    let table = ToneTable::get();
     [
         table.quantize(rgb[0] * k, d),
         table.quantize(rgb[1] * k, d),
         table.quantize(rgb[2] * k, d),
     ]
+}
+
+/// Develops image row `y` ([`develop_pixel`] of each pixel) into `out`
+/// (RGB, 3 bytes a pixel); pixels not `valid` stay as they are.
+pub fn develop_row(
+    pixels: &[[f32; 3]],
+    valid: &[bool],
+    y: usize,
+    k: f32,
+    settings: &CameraSettings,
+    out: &mut [u8],
+) {
+    let table = ToneTable::get();
+    for (x, ((p, &v), o)) in pixels
+        .iter()
+        .zip(valid)
+        .zip(out.chunks_exact_mut(3))
+        .enumerate()
+    {
+        if v {
+            o.copy_from_slice(&develop_with(table, *p, x, y, k, settings));
+        }
+    }
 }
 
 /// The dither offset of Bayer level `d` (0–63), or ½ for [`UNDITHERED`].
@@ -286,9 +376,33 @@ pub fn tone_quantize(x: f32, d: f32) -> u8 {
 #[derive(Debug)]
 pub struct ToneTable {
     /// Per dither index (64 Bayer levels, then [`UNDITHERED`]): the
-    /// threshold of level q at index q − 1; index 255 is never read.
-    thresholds: Vec<[f32; 256]>,
+    /// threshold of level q at index q − 1; from index 255 on NaN (never
+    /// reached).
+    thresholds: Vec<[f32; LEVELS_PADDED]>,
+    /// The bucket index ([`BUCKET_SHIFT`]) of the first bucket.
+    bucket0: u32,
+    /// Per bucket of exposed values: a level at or below the level of
+    /// every value in the bucket, for every dither index.
+    start: Vec<u8>,
+    /// Whether [`BUCKET_STEPS`] comparisons above `start` decide every
+    /// bucket for every dither index (and the thresholds are sorted);
+    /// otherwise the binary search decides.
+    bucketed: bool,
 }
+
+/// Buckets of exposed values by their `f32` bit pattern (ordered as the
+/// values for x ≥ 0): 2²³⁻¹⁷ = 64 buckets per octave, about one 8-bit
+/// level per bucket where the levels are densest.
+const BUCKET_SHIFT: u32 = 17;
+
+/// Thresholds per dither index: levels 1–255, then NaN up to
+/// [`BUCKET_STEPS`] past the last.
+const LEVELS_PADDED: usize = 256 + BUCKET_STEPS;
+
+/// Thresholds compared above a bucket's first level: the most levels any
+/// bucket spans for some dither index (3 with the curve and buckets here;
+/// the table falls back to the binary search if it ever needs more).
+const BUCKET_STEPS: usize = 3;
 
 impl ToneTable {
     /// The table, computed on first use (a few milliseconds, one thread).
@@ -301,33 +415,101 @@ impl ToneTable {
     /// rows), and a parallel initialiser could then steal another row's
     /// task on the same thread and re-enter the initialisation.
     fn new() -> ToneTable {
-        let thresholds = (0..=UNDITHERED)
+        let thresholds: Vec<[f32; LEVELS_PADDED]> = (0..=UNDITHERED)
             .map(|di| {
                 let d = dither_offset(di);
-                let mut t = [f32::NAN; 256];
+                let mut t = [f32::NAN; LEVELS_PADDED];
                 for q in 1..=255u8 {
                     t[q as usize - 1] = threshold(q, d);
                 }
                 t
             })
             .collect();
-        ToneTable { thresholds }
+        let sorted = thresholds.iter().all(|t| {
+            let n = t.iter().take_while(|v| !v.is_nan()).count();
+            t[..n].windows(2).all(|p| p[0] <= p[1]) && t[n..].iter().all(|v| v.is_nan())
+        });
+        let lowest = thresholds
+            .iter()
+            .flat_map(|t| t.iter())
+            .filter(|v| **v > 0.0)
+            .fold(f32::INFINITY, |m, &v| m.min(v));
+        let bucket0 = lowest.min(1e4).to_bits() >> BUCKET_SHIFT;
+        let buckets = ((1e4f32.to_bits() >> BUCKET_SHIFT) - bucket0 + 1) as usize;
+        let mut start = vec![0u8; buckets];
+        let mut steps = 0usize;
+        for (k, s) in start.iter_mut().enumerate() {
+            let edge = |k: u32| f32::from_bits((bucket0 + k) << BUCKET_SHIFT);
+            let lo = if k == 0 { 0.0 } else { edge(k as u32) };
+            let hi = if k + 1 == buckets {
+                f32::INFINITY
+            } else {
+                f32::from_bits(edge(k as u32 + 1).to_bits() - 1)
+            };
+            let count = |x: f32| thresholds.iter().map(move |t| search(t, x));
+            let first = count(lo).min().unwrap_or(0);
+            *s = first;
+            let most = count(hi).max().unwrap_or(0);
+            steps = steps.max((most - first) as usize);
+        }
+        ToneTable {
+            thresholds,
+            bucket0,
+            start,
+            bucketed: sorted && steps <= BUCKET_STEPS,
+        }
     }
 
     /// [`tone_quantize`]`(x, d)` for dither index `d` (Bayer level 0–63,
-    /// or 64 for no dither).
-    #[inline]
+    /// or 64 for no dither): the number of thresholds at or below x, from
+    /// its bucket's first level and a few comparisons (equal to the binary
+    /// search [`Self::quantize_search`]; test `tone_buckets_equal_the_search`).
+    #[inline(always)]
     pub fn quantize(&self, x: f32, d: usize) -> u8 {
         let t = &self.thresholds[d.min(UNDITHERED)];
-        // Branch-free binary search: t[..i] ≤ x after each step.
-        let mut i = 0usize;
-        for step in [128, 64, 32, 16, 8, 4, 2, 1] {
-            if t[i + step - 1] <= x {
-                i += step;
-            }
+        if !self.bucketed {
+            return search(t, x);
         }
-        i as u8
+        // Negative values and NaN are below every threshold; −0 is 0.
+        let bits = if x > 0.0 {
+            x.to_bits()
+        } else if x == 0.0 {
+            0
+        } else {
+            return 0;
+        };
+        let k = ((bits >> BUCKET_SHIFT).saturating_sub(self.bucket0) as usize)
+            .min(self.start.len() - 1);
+        // The next BUCKET_STEPS thresholds are sorted: the count of those
+        // at or below x is the scan's count, from loads that do not wait
+        // on each other (t[255..] is NaN: the level stops at 255).
+        let i = self.start[k] as usize;
+        let mut q = i;
+        for j in 0..BUCKET_STEPS {
+            q += usize::from(t[i + j] <= x);
+        }
+        q as u8
     }
+
+    /// [`Self::quantize`] by a binary search of the thresholds (the
+    /// reference of the bucketed form).
+    pub fn quantize_search(&self, x: f32, d: usize) -> u8 {
+        search(&self.thresholds[d.min(UNDITHERED)], x)
+    }
+}
+
+/// The number of thresholds at or below x (NaN thresholds, at the end,
+/// count as above): a branch-free binary search, t[..i] ≤ x after each
+/// step.
+#[inline]
+fn search(t: &[f32; LEVELS_PADDED], x: f32) -> u8 {
+    let mut i = 0usize;
+    for step in [128, 64, 32, 16, 8, 4, 2, 1] {
+        if t[i + step - 1] <= x {
+            i += step;
+        }
+    }
+    i as u8
 }
 
 /// The smallest f32 x ≥ 0 with [`tone_quantize`]`(x, d) ≥ q` (NaN if none
@@ -458,6 +640,59 @@ mod tests {
         let n = night_vision(dark);
         // Blue shift: the rod image is bluer than the input.
         assert!(n[2] > n[0]);
+    }
+
+    #[test]
+    fn night_vision_matches_its_reference() {
+        // The logarithm against f64 over the mesopic range and beyond.
+        for i in 0..=200_000 {
+            let y = 10f64.powf(-3.0 + 4.0 * i as f64 / 200_000.0) as f32;
+            let e = (log10_mesopic(y) as f64 - (y as f64).log10()).abs();
+            assert!(e <= 4e-7, "log10({y}): {e}");
+        }
+        // The blend, over colours and luminances from starlight to dusk.
+        let mut worst = 0.0f32;
+        for i in 0..400 {
+            let y = 10f32.powf(-3.5 + 5.0 * i as f32 / 400.0);
+            for (r, g, b) in [
+                (1.0, 1.0, 1.0),
+                (0.3, 0.6, 1.4),
+                (1.5, 0.8, 0.2),
+                (0.0, 1.0, 0.5),
+            ] {
+                let rgb = [r * y, g * y, b * y];
+                let (a, b) = (night_vision(rgb), night_vision_reference(rgb));
+                let m = a.iter().chain(&b).fold(0.0f32, |m, v| m.max(v.abs()));
+                for k in 0..3 {
+                    worst = worst.max((a[k] - b[k]).abs() / m);
+                }
+            }
+        }
+        assert!(worst <= 2e-6, "{worst}");
+    }
+
+    #[test]
+    fn tone_buckets_equal_the_search() {
+        // Around every threshold of every dither index (±64 ulps), on a
+        // log-spaced sweep and at the odd values: the bucketed lookup is
+        // the binary search's level, in at most four comparisons.
+        let table = ToneTable::get();
+        assert!(
+            table.bucketed,
+            "more than {BUCKET_STEPS} levels in a bucket"
+        );
+        let mut xs = vec![f32::NAN, -1.0, -0.0, 0.0, f32::INFINITY, 1e4, 1e30];
+        xs.push(f32::MIN_POSITIVE);
+        xs.extend((0..200_000).map(|i| 10f32.powf(-9.0 + 14.0 * i as f32 / 200_000.0)));
+        for (d, t) in table.thresholds.iter().enumerate() {
+            let near = t
+                .iter()
+                .filter(|v| v.is_finite() && **v > 0.0)
+                .flat_map(|v| (0..129).map(move |k| f32::from_bits(v.to_bits() + k - 64)));
+            for x in xs.iter().copied().chain(near) {
+                assert_eq!(table.quantize(x, d), table.quantize_search(x, d), "{x} {d}");
+            }
+        }
     }
 
     #[test]

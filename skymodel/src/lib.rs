@@ -22,6 +22,7 @@
 //! * [`night`] — the night sky of one instant and the culling criterion of
 //!   its passes;
 //! * [`spectrum`] — bands, solar spectrum, CIE functions, sRGB;
+//! * [`angle`] — `f32` arctangent and arcsine for the per-pixel lookups;
 //! * [`projection`] — fisheye, equirect, perspective, cube map;
 //! * [`refraction`] — ENU directions raised or lowered by the standard
 //!   refraction;
@@ -42,6 +43,7 @@
 // Band loops index several arrays at once; indices read better there.
 #![allow(clippy::needless_range_loop)]
 
+pub mod angle;
 pub mod atmosphere;
 pub mod camera;
 pub mod error;

@@ -156,8 +156,8 @@ impl MilkyWayMap {
     /// Luminance (linear sRGB, cd/m²) towards the ICRS unit vector `u`,
     /// bilinear, wrapping in right ascension.
     pub fn radiance(&self, u: Vec3) -> [f32; 3] {
-        let ra = u.y.atan2(u.x);
-        let dec = u.z.clamp(-1.0, 1.0).asin();
+        let ra = crate::angle::atan2(u.y, u.x);
+        let dec = crate::angle::asin(u.z);
         // u = 0.25 − α/2π in [−0.25, 0.75] for α in [−π, π]; no divisions
         // or remainders on this hot path.
         let mut fu = 0.25 - ra * (0.5 / std::f32::consts::PI);
@@ -167,7 +167,11 @@ impl MilkyWayMap {
         let fv = 0.5 - dec * (1.0 / std::f32::consts::PI);
         let x = fu * self.w as f32 - 0.5;
         let y = (fv * self.h as f32 - 0.5).clamp(0.0, (self.h - 1) as f32);
-        let (x0, y0) = (x.floor(), y.floor());
+        // floor(x) for x ≥ −1 (x ≥ −0.5 here) and floor(y) for y ≥ 0 by
+        // truncation: exact, without a call to the C library's `floorf`
+        // (no SSE4.1 rounding instruction in the baseline target).
+        let x0 = if x < 0.0 { -1.0 } else { (x as usize) as f32 };
+        let y0 = (y as usize) as f32;
         let (tx, ty) = (x - x0, y - y0);
         let xi0 = if x0 < 0.0 {
             self.w - 1

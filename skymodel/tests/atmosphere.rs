@@ -269,3 +269,37 @@ fn twilight_zenith_colour_is_smooth() {
         assert!(d2y.abs() < 0.01 * y(w[1]), "Y bump {d2y} at {:?}", w[1]);
     }
 }
+
+#[test]
+fn a_sky_view_in_the_earths_shadow_is_black() {
+    // Wherever the shadow test holds, the full march (the reference, one
+    // thread) gives zero in every texel and on the ground, so the CPU path
+    // may fill the view with zeros; it holds for a Sun at the nadir and
+    // never in twilight. (How far up it holds depends on where the
+    // multiple-scattering LUT is zero: with these LUTs only near the
+    // nadir; for the command line's default scene at −42.4°, not −39.4°.)
+    let luts = default_luts();
+    let input = |alt_deg: f32, h_km: f32| SkyViewInput {
+        observer_altitude_km: h_km,
+        sun_sin_elevation: alt_deg.to_radians().sin(),
+        irradiance_scale: 1.0,
+    };
+    let cases = [(-90.0, 0.0), (-90.0, 3.0), (-60.0, 0.0), (-42.4, 0.0)];
+    let mut dark = 0;
+    for (alt, h) in cases {
+        let i = input(alt, h);
+        if SkyView::in_earth_shadow(luts, &i) {
+            dark += 1;
+            let sv = SkyView::compute(luts, &i);
+            assert!(
+                sv.lut.data.iter().all(|p| *p == [0.0; 3]),
+                "{alt}° at {h} km"
+            );
+            assert_eq!(sv.ground_rgb, [0.0; 3], "{alt}° at {h} km");
+        }
+    }
+    assert!(dark >= 2, "{dark}");
+    for alt in [-18.0, -12.0, -6.0, 0.0, 30.0] {
+        assert!(!SkyView::in_earth_shadow(luts, &input(alt, 0.0)), "{alt}°");
+    }
+}

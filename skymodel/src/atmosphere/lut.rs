@@ -512,6 +512,45 @@ impl SkyView {
         Vec3::new(safe_sqrt(1.0 - mu * mu), 0.0, mu)
     }
 
+    /// Whether the whole sky view of `input` is provably black: every
+    /// point its view rays reach lies in the Earth's shadow and where the
+    /// multiple-scattering LUT is zero, so that [`Self::row`] gives zero
+    /// for every texel (test `a_sky_view_in_the_earths_shadow_is_black`).
+    ///
+    /// A point of a view ray inside the atmosphere is at most θ = acos(r₀ /
+    /// r_top) of arc from the observer (the horizontal ray where it leaves
+    /// the top), so the Sun's zenith cosine there is at most
+    /// μ_max = sin(e + θ) for a Sun at elevation e. The Sun's visibility
+    /// ([`Medium::sun_visibility`]) is zero where μ_s ≤ cos h(r) − a(r) for
+    /// the horizon's cosine cos h(r) = −√(1 − (r_b/r)²) and the disk's
+    /// radius a(r) ≤ its angular radius, least at the top: both
+    /// transmittances vanish when μ_max ≤ −√(1 − (r_b/r_top)²) − a. Ψ_ms
+    /// is then looked up at μ_s ≤ μ_max only, in LUT columns that must all
+    /// be zero. A margin of 10⁻³ in μ covers the march's `f32` rounding.
+    pub fn in_earth_shadow(luts: &AtmosphereLuts, input: &SkyViewInput) -> bool {
+        let m = &luts.medium;
+        let (b, top) = (m.bottom as f64, m.top as f64);
+        let r0 = b + (input.observer_altitude_km as f64).clamp(0.0, top - b - 0.01);
+        let theta = (r0 / top).clamp(-1.0, 1.0).acos();
+        let e = (input.sun_sin_elevation as f64).clamp(-1.0, 1.0).asin();
+        if e + theta >= 0.0 {
+            return false;
+        }
+        let mu_max = (e + theta).sin() + 1e-3;
+        let shadow = -(1.0 - (b / top).powi(2)).max(0.0).sqrt() - m.sun_angular_radius as f64;
+        if mu_max > shadow {
+            return false;
+        }
+        // The last column a bilinear Ψ lookup at μ_s ≤ μ_max may read.
+        let ms = &luts.multiscatter;
+        let u = tex_from_unit(unit_from_mu_s(mu_max as f32), ms.w);
+        let x = (u * ms.w as f32 - 0.5).clamp(0.0, (ms.w - 1) as f32);
+        let last = ((x as usize) + 1).min(ms.w - 1);
+        ms.data
+            .chunks(ms.w)
+            .all(|row| row[..=last].iter().all(|s| s.0.iter().all(|&v| v == 0.0)))
+    }
+
     /// Computes one row `j` of the sky-view LUT as band transfer factors.
     pub fn row(luts: &AtmosphereLuts, input: &SkyViewInput, j: usize) -> Vec<[f32; 3]> {
         let cfg = &luts.config;
@@ -622,7 +661,7 @@ impl SkyView {
     /// same for every sky view of one LUT configuration.
     #[inline]
     pub fn row_coordinate(&self, dir: Vec3) -> f32 {
-        let e = dir.z.min(1.0).asin();
+        let e = crate::angle::asin(dir.z);
         tex_from_unit((e / std::f32::consts::FRAC_PI_2).sqrt(), self.lut.h)
     }
 
@@ -632,7 +671,13 @@ impl SkyView {
     pub fn radiance_at_row(&self, dir: Vec3, sun: Vec3, v: f32) -> [f32; 3] {
         let cross = dir.x * sun.y - dir.y * sun.x;
         let dot = dir.x * sun.x + dir.y * sun.y;
-        let az = cross.abs().atan2(dot);
+        self.radiance_at(crate::angle::atan2(cross.abs(), dot), v)
+    }
+
+    /// [`Self::radiance`] above the horizon at azimuth `az` from the Sun
+    /// (radians, 0–π) and the row coordinate `v`.
+    #[inline]
+    pub fn radiance_at(&self, az: f32, v: f32) -> [f32; 3] {
         let u = tex_from_unit(az / std::f32::consts::PI, self.lut.w);
         self.lut.sample_rgb(u, v)
     }

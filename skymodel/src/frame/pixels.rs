@@ -18,11 +18,19 @@ thread_local! {
     static DIRECTION_BUFFERS: Cell<usize> = const { Cell::new(0) };
 }
 
-/// How many full per-pixel direction buffers ([`PixelDirections::buffer`])
-/// this thread has built: a GPU backend builds none (its shaders derive
-/// each pixel's direction), which tests assert through this count.
+/// How many times this thread has had every pixel's direction computed
+/// on the CPU: full buffers ([`PixelDirections::buffer`]) and band-by-band
+/// walks over the image ([`count_direction_walk`], the CPU backend). A GPU
+/// backend computes none (its shaders derive each pixel's direction),
+/// which tests assert through this count.
 pub fn direction_buffers_built() -> usize {
     DIRECTION_BUFFERS.with(Cell::get)
+}
+
+/// Counts one walk over every pixel's direction that keeps no buffer (a
+/// CPU frame's bands of rows; see [`direction_buffers_built`]).
+pub fn count_direction_walk() {
+    DIRECTION_BUFFERS.with(|c| c.set(c.get() + 1));
 }
 
 /// A camera's pixel-centre directions (ENU, unit; `None` outside the
@@ -99,9 +107,19 @@ impl<'a> PixelDirections<'a> {
     pub fn row(&self, y: usize, out: &mut [Option<Vec3>]) {
         match self.cam.projection {
             Projection::Fisheye => {
+                // Columns x and w − 1 − x lie at offsets ±dx (exact in
+                // f64 and f32): the same ρ and zenith angle, so the same
+                // sine and cosine; the mirror's East component is the
+                // negated one, bit for bit. One `sin_cos` per pair.
                 let (r, dy) = fisheye_row(y, self.w, self.h);
-                for (x, o) in out.iter_mut().enumerate() {
+                let half = self.w.div_ceil(2).min(out.len());
+                let (left, right) = out.split_at_mut(half);
+                for (x, o) in left.iter_mut().enumerate() {
                     *o = fisheye(x, self.w, r, dy);
+                }
+                for (k, o) in right.iter_mut().enumerate() {
+                    let mirror = self.w - half - 1 - k;
+                    *o = left[mirror].map(|d| Vec3::new(-d.x, d.y, d.z));
                 }
             }
             Projection::Equirect => {
@@ -177,16 +195,21 @@ mod tests {
 
     #[test]
     fn samples_equal_the_buffer_and_the_camera() {
-        for p in [
+        // Odd and even widths: the fisheye rows mirror their left half.
+        let projections = [
             Projection::Fisheye,
             Projection::Equirect,
             Projection::Perspective,
             Projection::Cubemap,
-        ] {
+        ];
+        for (p, (width, height)) in projections
+            .into_iter()
+            .flat_map(|p| [(p, (37, 23)), (p, (36, 22))])
+        {
             let cam = Camera {
                 projection: p,
-                width: 37,
-                height: 23,
+                width,
+                height,
                 yaw_deg: 33.0,
                 pitch_deg: 12.0,
                 ..Camera::default()
