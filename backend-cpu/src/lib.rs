@@ -5,11 +5,12 @@
 //! * [`CpuRenderer`] — the [`SkyRenderer`] implementation: the LUT store
 //!   (memory and disk cache, with a progress bar on a terminal), the
 //!   per-pixel directions, then each planned pass back to front;
-//! * [`sun_pass`], [`moon_pass`], [`night_pass`] — the passes that are more
+//! * [`sun_pass`], [`moon_pass`], [`night_pass`], [`cloud_pass`] — the passes that are more
 //!   than a per-pixel lookup;
 //! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files;
 //! * [`overlay`] — the constellation figures and labels drawn into a PNG.
 
+pub mod cloud_pass;
 pub mod moon_pass;
 pub mod night_pass;
 pub mod output;
@@ -210,6 +211,11 @@ impl SkyRenderer for CpuRenderer {
                 Effect::Texture => {
                     if let Some(t) = &plan.texture {
                         texture_pass::render(&mut pixels, &dirs, t);
+                    }
+                }
+                Effect::Clouds => {
+                    if let Some(c) = &plan.clouds {
+                        cloud_pass::render(&mut pixels, &dirs, c);
                     }
                 }
                 other => return Err(RenderError::PassNotAvailable(other)),

@@ -44,6 +44,8 @@
 
 pub mod atmosphere;
 pub mod camera;
+pub mod cloud_spec;
+pub mod clouds;
 pub mod error;
 #[cfg(feature = "std")]
 pub mod file;
