@@ -144,6 +144,32 @@ impl LowField {
     pub fn extinction(&self, xy: Vec2, h_km: f32) -> PerKm {
         self.extinction_per_km * self.density(xy, h_km)
     }
+
+    /// The extinction (km⁻¹) at the voxel centres of a `[nx, ny, nz]`
+    /// grid over the patch [−e, e]² × [base, top] (e = the patch's
+    /// half-width), x fastest, then y, then z: the field exported to
+    /// Mitsuba's `gridvolume` (`skymodel/examples/cloud_grid.rs`). Empty
+    /// for an unbounded layer.
+    pub fn voxel_grid(&self, [nx, ny, nz]: [usize; 3]) -> Vec<f32> {
+        let e = self.half_extent_km;
+        if !e.is_finite() {
+            return Vec::new();
+        }
+        let (b, t) = (self.base_km, self.top_km);
+        let centre = |i: usize, n: usize| (i as f32 + 0.5) / n as f32;
+        let mut v = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            let h = b + (t - b) * centre(k, nz);
+            for j in 0..ny {
+                let y = -e + 2.0 * e * centre(j, ny);
+                for i in 0..nx {
+                    let x = -e + 2.0 * e * centre(i, nx);
+                    v.push(self.extinction(Vec2::new(x, y), h));
+                }
+            }
+        }
+        v
+    }
 }
 
 /// The high, thin layer's field of one instant.

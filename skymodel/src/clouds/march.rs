@@ -91,6 +91,18 @@ pub const OCTAVES: Octaves = Octaves {
     n: 6,
 };
 
+/// How finely the low layer is marched and how its multiple scattering is
+/// approximated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MarchSettings {
+    /// View-ray steps across the slab's thickness (`clouds.low.steps`).
+    pub steps: u32,
+    /// Steps towards each light (`clouds.low.light_steps`).
+    pub light_steps: u32,
+    /// The multiple-scattering octaves ([`OCTAVES`]).
+    pub octaves: Octaves,
+}
+
 /// A light at the cloud: unit ENU direction towards it and its
 /// irradiance at normal incidence there (linear sRGB, Y = lux).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -125,14 +137,14 @@ impl Shell {
     /// The first interval [t₀, t₁] of the ray from the observer along
     /// `view` with altitude in [`lo_km`, `hi_km`], if any.
     pub fn slab(&self, view: Vec3, lo_km: f32, hi_km: f32) -> Option<(f32, f32)> {
-        let (start, end) = slab_interval(
-            self.r_observer,
-            view.z,
-            self.r_ground + lo_km,
-            self.r_ground + hi_km,
-        )?;
-        // The ground hides what lies beyond it.
-        let end = match inside_sphere(self.r_observer, view.z, self.r_ground) {
+        self.slab_from(self.r_observer, view.z, lo_km, hi_km)
+    }
+
+    /// The same from radius `r` at zenith cosine `mu`; the ground hides
+    /// what lies beyond it.
+    pub fn slab_from(&self, r: f32, mu: f32, lo_km: f32, hi_km: f32) -> Option<(f32, f32)> {
+        let (start, end) = slab_interval(r, mu, self.r_ground + lo_km, self.r_ground + hi_km)?;
+        let end = match inside_sphere(r, mu, self.r_ground) {
             Some((g0, _)) if g0 >= 0.0 => end.min(g0),
             _ => end,
         };
@@ -217,18 +229,15 @@ pub fn optical_depth_to_light(field: &LowField, shell: &Shell, pos: Vec3, l: Vec
     let d = d.max(0.0);
     let ds = d / n as f32;
     let mut tau = 0.0;
-    let origin = Vec3::new(0.0, 0.0, shell.r_observer);
     for k in 0..n {
         let p = pos + l * ((k as f32 + 0.5) * ds);
-        let xy = Vec2::new(p.x - origin.x, p.y - origin.y);
-        tau += field.extinction(xy, p.length() - shell.r_ground) * ds;
+        tau += field.extinction(Vec2::new(p.x, p.y), p.length() - shell.r_ground) * ds;
     }
     tau
 }
 
 /// Marches the view ray `view` (unit, observer frame) through the low
-/// layer: `steps` steps across the slab's thickness, `light_steps` towards
-/// each light, `ambient` the isotropic sky radiance above the layer
+/// layer as `settings` say (at most 8 octaves), `ambient` the isotropic sky radiance above the layer
 /// (linear sRGB, cd/m²; a linear height gradient scales it from 0.4 at
 /// the base to 1 at the top, the light the cloud hides from its own base).
 pub fn march_low(
@@ -237,9 +246,14 @@ pub fn march_low(
     view: Vec3,
     lights: &[CloudLight],
     ambient: [f32; 3],
-    steps: u32,
-    light_steps: u32,
+    settings: &MarchSettings,
 ) -> CloudHit {
+    let MarchSettings {
+        steps,
+        light_steps,
+        octaves,
+    } = *settings;
+    let n_oct = octaves.n.min(8) as usize;
     let Some((t0, t1)) = shell.slab(view, field.base_km, field.top_km) else {
         return CloudHit::CLEAR;
     };
@@ -253,9 +267,9 @@ pub fn march_low(
             let cos = view.dot(lt.dir);
             let mut p = [0.0f32; 8];
             let mut k = 1.0;
-            for o in p.iter_mut().take(OCTAVES.n.min(8) as usize) {
+            for o in p.iter_mut().take(n_oct) {
                 *o = CLOUD_PHASE.eval(cos, k);
-                k *= OCTAVES.c;
+                k *= octaves.c;
             }
             p
         })
@@ -276,10 +290,10 @@ pub fn march_low(
             let tau = optical_depth_to_light(field, shell, pos, lt.dir, light_steps);
             let mut f = 0.0;
             let (mut ai, mut bi) = (1.0f32, 1.0f32);
-            for p in ph.iter().take(OCTAVES.n.min(8) as usize) {
+            for p in ph.iter().take(n_oct) {
                 f += bi * p * (-ai * tau).exp();
-                ai *= OCTAVES.a;
-                bi *= OCTAVES.b;
+                ai *= octaves.a;
+                bi *= octaves.b;
             }
             for c in 0..3 {
                 src[c] += f * lt.irradiance_rgb[c];
@@ -310,7 +324,18 @@ pub fn march_low(
 /// along `view`, marched like [`march_low`] (the transmittance of the
 /// direct Sun through the layer when `view` points at the Sun).
 pub fn optical_depth_low(field: &LowField, shell: &Shell, view: Vec3, steps: u32) -> f32 {
-    let Some((t0, t1)) = shell.slab(view, field.base_km, field.top_km) else {
+    let origin = Vec3::new(0.0, 0.0, shell.r_observer);
+    optical_depth_ray(field, shell, origin, view, steps)
+}
+
+/// Optical depth of the low layer along the ray from `pos` (planet-centred,
+/// km, the observer on the z axis) in the unit direction `dir`, marched
+/// like [`march_low`]: `steps` steps across the slab's thickness, more on
+/// slant paths (the cloud shadow of the direct beam at `pos` when `dir`
+/// points at the Sun).
+pub fn optical_depth_ray(field: &LowField, shell: &Shell, pos: Vec3, dir: Vec3, steps: u32) -> f32 {
+    let r = pos.length();
+    let Some((t0, t1)) = shell.slab_from(r, pos.dot(dir) / r, field.base_km, field.top_km) else {
         return 0.0;
     };
     let t1 = t1.min(t0 + MAX_MARCH_KM);
@@ -318,8 +343,8 @@ pub fn optical_depth_low(field: &LowField, shell: &Shell, view: Vec3, steps: u32
     let dt = (t1 - t0) / n as f32;
     (0..n)
         .map(|s| {
-            let (xy, h) = shell.point(view, t0 + (s as f32 + 0.5) * dt);
-            field.extinction(xy, h) * dt
+            let p = pos + dir * (t0 + (s as f32 + 0.5) * dt);
+            field.extinction(Vec2::new(p.x, p.y), p.length() - shell.r_ground) * dt
         })
         .sum()
 }

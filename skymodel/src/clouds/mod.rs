@@ -24,8 +24,8 @@ pub mod noise;
 
 pub use field::{HighField, LowField};
 pub use march::{
-    march_low, optical_depth_low, shade_high, CloudHit, CloudLight, CloudPhase, Octaves, Shell,
-    CLOUD_PHASE, OCTAVES,
+    march_low, optical_depth_low, optical_depth_ray, optical_depth_to_light, shade_high, CloudHit,
+    CloudLight, CloudPhase, MarchSettings, Octaves, Shell, CLOUD_PHASE, OCTAVES,
 };
 
 #[cfg(test)]
@@ -37,6 +37,11 @@ mod tests {
     use crate::cloud_spec::{HighCloudSpec, LowCloudSpec};
 
     const RG: f32 = 6360.0;
+    const SETTINGS: MarchSettings = MarchSettings {
+        steps: 64,
+        light_steps: 6,
+        octaves: OCTAVES,
+    };
 
     fn shell() -> Shell {
         Shell {
@@ -93,9 +98,9 @@ mod tests {
         for i in 0..40 {
             let a = i as f32 * 0.157;
             let v = Vec3::new(a.cos() * 0.5, a.sin() * 0.5, 0.8).normalize();
-            let h1 = march_low(&f, &sh, v, &light(1.0), [0.0; 3], 64, 6);
-            let h2 = march_low(&f, &sh, v, &light(2.0), [0.0; 3], 64, 6);
-            let h0 = march_low(&f, &sh, v, &light(0.0), [0.0; 3], 64, 6);
+            let h1 = march_low(&f, &sh, v, &light(1.0), [0.0; 3], &SETTINGS);
+            let h2 = march_low(&f, &sh, v, &light(2.0), [0.0; 3], &SETTINGS);
+            let h0 = march_low(&f, &sh, v, &light(0.0), [0.0; 3], &SETTINGS);
             let tau = optical_depth_low(&f, &sh, v, 64);
             if h1.transmittance > 1e-3 {
                 assert!((h1.transmittance - (-tau).exp()).abs() < 1e-3);

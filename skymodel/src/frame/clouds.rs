@@ -39,7 +39,9 @@ use super::lights::sky_horizontal_rgb;
 use super::lights::AerialPerspective;
 use super::sky_light::SkyInputs;
 use crate::atmosphere::AtmosphereLuts;
-use crate::clouds::{march_low, shade_high, CloudHit, CloudLight, HighField, LowField, Shell};
+use crate::clouds::{
+    march_low, shade_high, CloudHit, CloudLight, HighField, LowField, MarchSettings, Shell, OCTAVES,
+};
 use crate::moon::lunar_reflectance_spectrum;
 use crate::scene::Scene;
 use crate::spectrum::{BandWeights, Spectrum};
@@ -69,10 +71,8 @@ pub struct CloudFrame {
     pub high: Option<HighField>,
     /// The ground and the observer, km.
     pub shell: Shell,
-    /// View-ray steps across the low slab.
-    pub steps: u32,
-    /// Steps towards each light.
-    pub light_steps: u32,
+    /// The low layer's march.
+    pub march: MarchSettings,
     /// The sky's mean downward radiance, linear sRGB, cd/m².
     pub ambient_rgb: [f32; 3],
     lights: Vec<FrameLight>,
@@ -124,8 +124,11 @@ impl CloudFrame {
             low: c.has_low().then(|| LowField::new(&c.low, seconds)),
             high: c.has_high().then(|| HighField::new(&c.high, seconds)),
             shell,
-            steps: c.low.steps,
-            light_steps: c.low.light_steps,
+            march: MarchSettings {
+                steps: c.low.steps,
+                light_steps: c.low.light_steps,
+                octaves: OCTAVES,
+            },
             ambient_rgb,
             lights,
             luts,
@@ -163,15 +166,7 @@ impl CloudFrame {
             return CloudHit::CLEAR;
         };
         let lights = self.lights_at(view, t0);
-        march_low(
-            f,
-            &self.shell,
-            view,
-            &lights,
-            self.ambient_rgb,
-            self.steps,
-            self.light_steps,
-        )
+        march_low(f, &self.shell, view, &lights, self.ambient_rgb, &self.march)
     }
 
     /// The high layer along `view` (no aerial perspective).
