@@ -217,3 +217,61 @@ impl CloudFrame {
         }
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clouds::optical_depth_low;
+    use crate::scene::Effect;
+
+    /// A scene with a low layer and no atmosphere (the isolated
+    /// configuration), at noon.
+    fn frame(coverage: f64) -> CloudFrame {
+        let mut s = Scene::default();
+        s.time.utc = "2024-06-21T11:00:00Z".into();
+        s.effects = vec![Effect::Clouds];
+        s.clouds.low.coverage = coverage;
+        let state = SkyState::at(&s).expect("state");
+        CloudFrame::prepare(&s, &state, None, None, None)
+    }
+
+    /// What lies behind a cloud (stars, the Milky Way, the Moon) is dimmed
+    /// by e^{−τ} of the cloud's optical depth along the line of sight.
+    #[test]
+    fn what_lies_behind_is_dimmed_by_the_optical_depth() {
+        let mut f = frame(0.6);
+        f.lights.clear();
+        let low = f.low.expect("a low layer");
+        let mut checked = 0;
+        for i in 0..60 {
+            let a = i as f32 * 0.21;
+            let v = Vec3::new(a.cos() * 0.4, a.sin() * 0.4, 0.9).normalize();
+            let star = [3.0, 2.0, 1.0];
+            let out = f.composite(v, star);
+            let t = (-optical_depth_low(&low, &f.shell, v, f.march.steps)).exp();
+            if t > 0.01 && t < 0.99 {
+                for c in 0..3 {
+                    assert!((out[c] / (star[c] * t) - 1.0).abs() < 0.02, "{out:?} {t}");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 5, "{checked}");
+    }
+
+    /// The Sun lights the clouds while it is up: a sunlit cloud is bright,
+    /// and without an atmosphere its light is the Sun's illuminance outside
+    /// the atmosphere (about 130 klx).
+    #[test]
+    fn the_sun_lights_the_clouds() {
+        let f = frame(0.8);
+        let lights = f.lights_at(Vec3::Z, 1.0);
+        assert_eq!(lights.len(), 1);
+        let e = crate::spectrum::luminance(lights[0].irradiance_rgb);
+        assert!((125_000.0..140_000.0).contains(&e), "{e}");
+        let hit = f.low_hit(Vec3::new(0.2, 0.1, 0.97).normalize());
+        assert!(hit.transmittance < 1.0);
+        let y = crate::spectrum::luminance(hit.radiance);
+        assert!(y > 100.0 && y.is_finite(), "{y}");
+    }
+}
