@@ -236,7 +236,7 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
             per_pixel * 100.0,
             sums.0 / sums.1
         );
-        if !(weighted <= bound) {
+        if weighted.is_nan() || weighted > bound {
             failures.push(format!("{name} radiance {:.1} %", weighted * 100.0));
         }
         let t_ref = read_exr(dir().join(format!("{name}_transmittance.exr"))).unwrap();
@@ -248,7 +248,7 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
             "{name}: Sun transmittance over {m} pixels: Σ|ΔT|/ΣT {:.2} %",
             e * 100.0
         );
-        if !(e <= 0.05) {
+        if e.is_nan() || e > 0.05 {
             failures.push(format!("{name} transmittance {:.2} %", e * 100.0));
         }
         assert!(n > 50 && m > 50, "{name}: too few cloud pixels ({n}, {m})");
