@@ -21,7 +21,9 @@ use std::time::Instant as Clock;
 
 use glam::Vec3;
 use himmel_skymodel::atmosphere::AtmosphereLuts;
-use himmel_skymodel::frame::{CoronaFrame, NightFrame, PixelDirections, SkyLight, TextureFrame};
+use himmel_skymodel::frame::{
+    CloudFrame, CoronaFrame, NightFrame, PixelDirections, SkyLight, TextureFrame,
+};
 use rayon::prelude::*;
 
 use crate::moon_pass::MoonDraw;
@@ -70,6 +72,10 @@ pub enum PixelPass<'a> {
     Milkyway(&'a NightFrame),
     /// A texture-mapped sky over what lies behind it.
     Texture(&'a TextureFrame),
+    /// The cloud layers over what lies behind them
+    /// ([`CloudFrame::composite`]: the cloud's radiance with the air in
+    /// front of it, what lies behind dimmed by the layers' transmittance).
+    Clouds(&'a CloudFrame),
 }
 
 impl PixelPass<'_> {
@@ -81,7 +87,7 @@ impl PixelPass<'_> {
             | PixelPass::Sun(_)
             | PixelPass::Corona { .. }
             | PixelPass::Milkyway(_) => true,
-            PixelPass::Moon(_) | PixelPass::Texture(_) => false,
+            PixelPass::Moon(_) | PixelPass::Texture(_) | PixelPass::Clouds(_) => false,
         }
     }
 
@@ -105,6 +111,13 @@ impl PixelPass<'_> {
             PixelPass::Moon(m) => m.band(y0, pixels, dirs),
             PixelPass::Milkyway(n) => crate::night_pass::milkyway_band(n, pixels, dirs),
             PixelPass::Texture(t) => crate::texture_pass::band(pixels, dirs, t),
+            PixelPass::Clouds(c) => {
+                for (p, d) in pixels.iter_mut().zip(dirs) {
+                    if let Some(d) = d {
+                        *p = c.composite(*d, *p);
+                    }
+                }
+            }
         }
     }
 }

@@ -6,7 +6,8 @@
 //!   (memory and disk cache, with a progress bar on a terminal), the
 //!   per-pixel directions, then each planned pass back to front;
 //! * [`sun_pass`], [`moon_pass`], [`night_pass`] — the passes that are more
-//!   than a per-pixel lookup;
+//!   than a per-pixel lookup; [`bands`] runs the per-pixel ones (the
+//!   cloud layers among them) band by band;
 //! * [`output`] — EXR (linear, absolute cd/m²) and PNG (camera model) files;
 //! * [`overlay`] — the constellation figures and labels drawn into a PNG.
 
@@ -249,6 +250,7 @@ fn execute(
             Effect::Texture => {
                 run.extend(plan.texture.as_ref().map(|t| (i, PixelPass::Texture(t))))
             }
+            Effect::Clouds => run.extend(plan.clouds.as_ref().map(|c| (i, PixelPass::Clouds(c)))),
             Effect::Stars | Effect::Planets => {
                 if let Some(n) = &plan.night {
                     let sources = if planned.effect == Effect::Stars {

@@ -83,8 +83,13 @@ fn atmosphere_only_runs_one_pass_and_says_why_not_the_others() {
 }
 
 #[test]
-fn later_effects_are_reported_not_available() {
-    let s = scene(vec![Effect::Clouds], 16, 16, Projection::Fisheye);
+fn clouds_without_a_layer_are_reported_and_later_effects_not_available() {
+    let mut s = scene(
+        vec![Effect::Clouds, Effect::Godrays],
+        16,
+        16,
+        Projection::Fisheye,
+    );
     let state = SkyState::at(&s).unwrap();
     let out = CpuRenderer::new(None).render(&s, &state).unwrap();
     let clouds = out.passes.iter().find(|p| p.name == "clouds").unwrap();
@@ -94,8 +99,22 @@ fn later_effects_are_reported_not_available() {
                 .reason
                 .as_deref()
                 .unwrap()
+                .starts_with("no cloud layer in the scene")
+    );
+    let godrays = out.passes.iter().find(|p| p.name == "godrays").unwrap();
+    assert!(
+        !godrays.ran
+            && godrays
+                .reason
+                .as_deref()
+                .unwrap()
                 .starts_with("not available")
     );
+    // With a layer the pass runs.
+    s.clouds.low.coverage = 0.6;
+    let state = SkyState::at(&s).unwrap();
+    let out = CpuRenderer::new(None).render(&s, &state).unwrap();
+    assert!(out.passes.iter().any(|p| p.name == "clouds" && p.ran));
 }
 
 #[test]

@@ -149,6 +149,18 @@ pub struct RenderArgs {
     /// keep the physical Sun with --sky-keep sun.
     #[arg(long)]
     pub(crate) sky_mask_sun: bool,
+    /// Low cloud layer's coverage in [0, 1] (scene key clouds.low.coverage;
+    /// 0 = no low layer).
+    #[arg(long, value_name = "C")]
+    clouds_coverage: Option<f64>,
+    /// Cloud type: cumulus, stratocumulus or stratus (the low layer,
+    /// clouds.low.kind; coverage 0.5 unless set) or cirrus (the high
+    /// layer, clouds.high; its coverage from --clouds-coverage, default 0.5).
+    #[arg(long, value_name = "TYPE")]
+    clouds_type: Option<String>,
+    /// High cloud layer's (cirrus) coverage in [0, 1] (clouds.high.coverage).
+    #[arg(long, value_name = "C")]
+    cirrus_coverage: Option<f64>,
 }
 
 #[derive(Args, Debug)]
@@ -239,6 +251,8 @@ fn flag_of(a: &RenderArgs, field: &str) -> Option<&'static str> {
         "time.day_fraction" => ("--day-fraction", a.day_fraction.is_some()),
         "sky_texture.path" => ("--sky-texture", a.sky_texture.is_some()),
         "sky_texture.blend" => ("--sky-blend", a.sky_blend.is_some()),
+        "clouds.low.coverage" => ("--clouds-coverage", a.clouds_coverage.is_some()),
+        "clouds.high.coverage" => ("--cirrus-coverage", a.cirrus_coverage.is_some()),
         _ => return None,
     };
     // Without a scene file every value comes from a flag or its default.
@@ -372,11 +386,56 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
         }
     }
     crate::texture_cmd::apply_flags(a, &mut scene)?;
+    apply_cloud_flags(a, &mut scene)?;
     if scene.world.is_some() && a.projection.is_none() && a.scene.is_none() {
         scene.camera.projection = Projection::Perspective;
     }
     scene.validate().map_err(|e| scene_error(a, e))?;
     Ok(scene)
+}
+
+/// Applies `--clouds-coverage`, `--clouds-type` and `--cirrus-coverage`.
+/// A flag that asks for clouds adds the `clouds` effect when `--effects`
+/// did not list the effects.
+fn apply_cloud_flags(a: &RenderArgs, scene: &mut Scene) -> Result<(), CliError> {
+    use himmel_skymodel::scene::LowCloudKind;
+    let c = &mut scene.clouds;
+    let cirrus = match a.clouds_type.as_deref() {
+        None => false,
+        Some(t) if t.trim().eq_ignore_ascii_case("cirrus") => true,
+        Some(t) => {
+            c.low.kind = LowCloudKind::from_name(t).ok_or_else(|| {
+                CliError::input(format!(
+                    "--clouds-type: unknown type '{t}'; expected cumulus, stratocumulus, stratus or cirrus"
+                ))
+            })?;
+            false
+        }
+    };
+    let cov = a
+        .clouds_coverage
+        .map(|v| finite("--clouds-coverage", v))
+        .transpose()?;
+    if cirrus {
+        c.high.coverage = cov.unwrap_or(0.5);
+        if let Some(v) = a.cirrus_coverage {
+            c.high.coverage = finite("--cirrus-coverage", v)?;
+        }
+    } else {
+        if let Some(v) = cov {
+            c.low.coverage = v;
+        } else if a.clouds_type.is_some() && c.low.coverage == 0.0 {
+            c.low.coverage = 0.5;
+        }
+        if let Some(v) = a.cirrus_coverage {
+            c.high.coverage = finite("--cirrus-coverage", v)?;
+        }
+    }
+    let asked = a.clouds_type.is_some() || cov.is_some() || a.cirrus_coverage.is_some();
+    if asked && a.effects.is_none() && !scene.effects.contains(&himmel_skymodel::Effect::Clouds) {
+        scene.effects.push(himmel_skymodel::Effect::Clouds);
+    }
+    Ok(())
 }
 
 /// Loads the scene's world, if it has one: `world.gltf` relative to the

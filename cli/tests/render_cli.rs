@@ -606,3 +606,56 @@ fn wgpu_culls_night_passes_at_noon_and_renders_the_night_with_the_moon() {
         let _ = std::fs::remove_file(p);
     }
 }
+
+/// The cloud flags: a bad type or coverage exits 2 naming the flag; a
+/// good one runs the clouds pass (`--stats`); the template shows the keys.
+#[test]
+fn cloud_flags_and_keys() {
+    let out = tmp("clouds.exr");
+    let (code, _, err) = render(&["--clouds-type", "nimbus", "--output", &out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.starts_with("error: --clouds-type") && err.contains("cumulus"),
+        "{err}"
+    );
+    let (code, _, err) = render(&["--clouds-coverage", "1.5", "--output", &out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.contains("--clouds-coverage (clouds.low.coverage)"),
+        "{err}"
+    );
+    let stats = tmp("clouds_stats.json");
+    let (code, _, err) = render(&[
+        "--clouds-type",
+        "stratocumulus",
+        "--cirrus-coverage",
+        "0.4",
+        "--effects",
+        "atmosphere,clouds",
+        "--width",
+        "24",
+        "--height",
+        "24",
+        "--stats",
+        &stats,
+        "--output",
+        &out,
+    ]);
+    assert_eq!(code, 0, "{err}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+    let clouds = s["passes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|p| p["name"] == "clouds")
+        .unwrap()
+        .clone();
+    assert_eq!(clouds["ran"], true, "{clouds}");
+    let (code, t, _) = himmel(&["scene-template"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&t).unwrap();
+    assert_eq!(v["clouds"]["low"]["coverage"], 0.0);
+    assert_eq!(v["clouds"]["low"]["kind"], "cumulus");
+    assert_eq!(v["clouds"]["high"]["altitude_km"], 9.0);
+}

@@ -19,6 +19,10 @@
 //! * [`stars`] — stars and planets as point sources, the energy-conserving
 //!   PSF, extinction and scintillation;
 //! * [`milkyway`] — the Milky Way map, faint-star light, zodiacal light, airglow;
+//! * [`clouds`] — the cloud layers' density fields (value-noise fBm,
+//!   identical in WGSL), the low layer's ray march with self-shadowing and
+//!   multiple-scattering octaves, the thin high layer; their scene keys in
+//!   [`cloud_spec`];
 //! * [`night`] — the night sky of one instant and the culling criterion of
 //!   its passes;
 //! * [`spectrum`] — bands, solar spectrum, CIE functions, sRGB;
@@ -37,7 +41,7 @@
 //!
 //! Module dependencies run one way (no cycles; `tests/tests/architecture.rs`
 //! checks it): `units`, `spectrum` ← the models (`atmosphere`, `sun`,
-//! `moon`, `stars`, `milkyway`, `night`) ← `plan` ← `state` ← `frame`,
+//! `moon`, `stars`, `milkyway`, `night`, `clouds`) ← `plan` ← `state` ← `frame`,
 //! `renderer`.
 
 // Band loops index several arrays at once; indices read better there.
@@ -46,6 +50,8 @@
 pub mod angle;
 pub mod atmosphere;
 pub mod camera;
+pub mod cloud_spec;
+pub mod clouds;
 pub mod error;
 #[cfg(feature = "std")]
 pub mod file;

@@ -43,6 +43,9 @@ pub enum SkipReason {
     NoDirectLight,
     /// The texture pass of a scene without `sky_texture`.
     NoTexture,
+    /// The clouds pass of a scene without a cloud layer (both
+    /// `clouds.low.coverage` and `clouds.high.coverage` are 0).
+    NoClouds,
     /// Hidden behind a sky texture that replaces the physical sky
     /// (`sky_texture.blend` 1, the pass not in `sky_texture.keep`).
     ReplacedByTexture,
@@ -157,6 +160,9 @@ impl std::fmt::Display for SkipReason {
                 "neither the Sun nor the Moon is above the horizon: nothing casts a shadow",
             ),
             SkipReason::NoTexture => f.write_str("no sky texture in the scene"),
+            SkipReason::NoClouds => f.write_str(
+                "no cloud layer in the scene (clouds.low.coverage and clouds.high.coverage are 0)",
+            ),
             SkipReason::ReplacedByTexture => {
                 f.write_str("replaced by the sky texture (blend 1; not in sky_texture.keep)")
             }
@@ -215,6 +221,9 @@ pub fn plan(
                     }
                     e if e.is_lighting() && scene.world.is_none() => Some(SkipReason::NoWorld),
                     Effect::Texture if scene.sky_texture.is_none() => Some(SkipReason::NoTexture),
+                    Effect::Clouds if !scene.clouds.has_low() && !scene.clouds.has_high() => {
+                        Some(SkipReason::NoClouds)
+                    }
                     Effect::Shadows
                         if sun.alt_refracted_deg <= 0.0
                             && (moon.alt_refracted_deg <= 0.0 || !scene.wants(Effect::Moon)) =>
@@ -261,8 +270,8 @@ mod tests {
     fn reasons_read_as_before() {
         assert_eq!(SkipReason::NotRequested.to_string(), "not requested");
         assert_eq!(
-            SkipReason::NotAvailable(Effect::Clouds).to_string(),
-            "not available yet: the clouds pass arrives with a later version"
+            SkipReason::NotAvailable(Effect::Godrays).to_string(),
+            "not available yet: the godrays pass arrives with a later version"
         );
         assert_eq!(
             SkipReason::MoonBelowHorizon {

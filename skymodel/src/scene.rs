@@ -6,6 +6,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
+pub use crate::cloud_spec::{CloudsSpec, HighCloudSpec, LowCloudKind, LowCloudSpec};
 pub use crate::overlay_spec::OverlaySpec;
 use crate::projection::Camera;
 pub use crate::scene_error::SceneError;
@@ -32,7 +33,8 @@ pub enum Effect {
     /// A texture-mapped sky (`sky_texture`), instead of or blended over
     /// the physical sky (`crate::texture_sky`).
     Texture,
-    /// Cloud layers (a later issue).
+    /// Cloud layers: a volumetric low layer and a thin high layer
+    /// (`clouds`, `crate::clouds`).
     Clouds,
     /// A 3D world's G-buffer and its lighting by the Sun, Moon and sky
     /// (`spec/world.md`; wgpu backend).
@@ -112,6 +114,7 @@ impl Effect {
                 | Effect::Planets
                 | Effect::Milkyway
                 | Effect::Texture
+                | Effect::Clouds
                 | Effect::World
                 | Effect::Shadows
         )
@@ -289,6 +292,9 @@ pub struct Scene {
     /// A texture-mapped sky (default none; `crate::texture_spec`).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub sky_texture: Option<SkyTextureSpec>,
+    /// The cloud layers (ranges in [`CloudsSpec`]; default none: both
+    /// coverages 0).
+    pub clouds: CloudsSpec,
 }
 
 fn is_default_lighting(l: &LightingSpec) -> bool {
@@ -317,6 +323,7 @@ impl Default for Scene {
             lighting: LightingSpec::default(),
             overlay: OverlaySpec::default(),
             sky_texture: None,
+            clouds: CloudsSpec::default(),
         }
     }
 }
@@ -467,6 +474,7 @@ impl Scene {
         if let Some(t) = &self.sky_texture {
             t.validate()?;
         }
+        self.clouds.validate()?;
         if self.world.is_some() && self.camera.projection != crate::Projection::Perspective {
             return Err(SceneError::new(
                 "camera.projection",

@@ -9,10 +9,14 @@ use serde_json::Value;
 /// Leaves whose every value of their type is valid, with the reason; the
 /// in-type extreme value (u32::MAX for an integer) is not expected to fail
 /// for them. Types still fail (1e300 is no u64).
-const WHOLE_RANGE_VALID: &[(&str, &str)] = &[(
-    "stars.seed",
-    "any u64 seeds the scintillation pattern; no value is out of range",
-)];
+const WHOLE_RANGE_VALID: &[(&str, &str)] = &[
+    (
+        "stars.seed",
+        "any u64 seeds the scintillation pattern; no value is out of range",
+    ),
+    ("clouds.low.seed", "any u32 seeds the low layer's noise"),
+    ("clouds.high.seed", "any u32 seeds the high layer's noise"),
+];
 
 /// String leaves of the template that also take a number (then range-checked).
 const ALSO_NUMERIC: &[&str] = &["exposure"];

@@ -53,9 +53,10 @@ fn pass_plan_reasons() {
         Some("the Sun's disk is below the horizon")
     );
     assert_eq!(reason(Effect::Atmosphere), None);
+    // A scene without a cloud layer plans no clouds pass, and says why.
     assert!(reason(Effect::Clouds)
         .unwrap()
-        .starts_with("not available yet"));
+        .starts_with("no cloud layer in the scene"));
     assert_eq!(reason(Effect::Moon).as_deref(), Some("not requested"));
     assert_eq!(st.passes.len(), Effect::ALL.len());
 }

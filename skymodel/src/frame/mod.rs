@@ -25,10 +25,13 @@
 //!   cross-fade gains, rotation, blend and horizon band;
 //! * [`PixelDirections`] ([`pixels`]) — pixel-centre view directions in
 //!   f32 as the CPU walks the image;
+//! * [`CloudFrame`] ([`clouds`]) — the cloud layers' fields, lights,
+//!   ambient light and their composition over the sky;
 //! * [`DirectLights`], [`AerialPerspective`] ([`lights`]) — what a 3D
 //!   world receives: the Sun and Moon as directional lights after the
 //!   atmosphere, the sky's horizontal illuminance, the aerial perspective.
 
+pub mod clouds;
 pub mod lights;
 pub mod luts;
 pub mod moon;
@@ -43,6 +46,7 @@ use std::time::Instant as Clock;
 
 use glam::DVec3;
 
+pub use clouds::CloudFrame;
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
 pub use luts::{LutOrigin, LutProgress, LutStore};
 pub use moon::MoonFrame;
@@ -93,6 +97,8 @@ pub struct FramePlan {
     pub night: Option<NightFrame>,
     /// The sky texture, when its pass runs.
     pub texture: Option<TextureFrame>,
+    /// The cloud layers, when their pass runs.
+    pub clouds: Option<CloudFrame>,
 }
 
 impl FramePlan {
@@ -133,6 +139,7 @@ impl FramePlan {
             moon: None,
             night: None,
             texture: None,
+            clouds: None,
         };
         let texture_spec = scene
             .sky_texture
@@ -178,6 +185,11 @@ impl FramePlan {
                 &mut store.textures,
                 sky_lux,
             )?);
+        }
+        if plan.runs(Effect::Clouds) {
+            let sky_lux = plan.sky_light(views)?.map(lights::sky_horizontal_rgb);
+            let (luts, inputs) = (plan.luts.clone(), plan.sky_inputs);
+            plan.clouds = Some(CloudFrame::prepare(scene, state, luts, inputs, sky_lux));
         }
         Ok(plan)
     }

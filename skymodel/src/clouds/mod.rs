@@ -1,0 +1,162 @@
+//! Clouds: a volumetric low layer (cumulus, stratocumulus, stratus) and a
+//! thin high layer (cirrus), in absolute units, lit by the Sun and the
+//! Moon through the atmosphere and by the sky.
+//!
+//! * [`noise`] — hash-based value noise and fBm, periodic, identical in
+//!   WGSL;
+//! * [`field`] — the density fields: [`LowField`] (3D extinction, km⁻¹)
+//!   and [`HighField`] (2D vertical optical depth);
+//! * [`march`] — the view ray's march through the low layer with
+//!   self-shadowing and Wrenninge's multiple-scattering octaves, the
+//!   optical depth of a ray (the direct Sun's transmittance), and the high
+//!   layer's single scattering.
+//!
+//! The frame's constants (the lights' irradiance at the cloud after the
+//! atmosphere's transmittance, the sky's ambient radiance, the aerial
+//! perspective in front of the cloud) and the composition over the sky
+//! are [`crate::frame::CloudFrame`]. The model is checked against Mitsuba
+//! 3's path tracer on the same density field (`tools/cloud_reference.py`,
+//! `tests/tests/cloud_mitsuba.rs`).
+
+pub mod field;
+pub mod march;
+pub mod noise;
+
+pub use field::{HighField, LowField};
+pub use march::{
+    march_low, optical_depth_low, optical_depth_ray, optical_depth_to_light, shade_high, CloudHit,
+    CloudLight, CloudPhase, MarchSettings, Octaves, Shell, CLOUD_PHASE, OCTAVES,
+};
+
+#[cfg(test)]
+mod tests {
+    use glam::Vec3;
+
+    use super::march::slab_interval;
+    use super::*;
+    use crate::cloud_spec::{HighCloudSpec, LowCloudSpec};
+
+    const RG: f32 = 6360.0;
+    const SETTINGS: MarchSettings = MarchSettings {
+        steps: 64,
+        light_steps: 6,
+        octaves: OCTAVES,
+    };
+
+    fn shell() -> Shell {
+        Shell {
+            r_ground: RG,
+            r_observer: RG,
+        }
+    }
+
+    #[test]
+    fn slab_intervals_from_below_inside_and_above() {
+        // From the ground straight up: base to top.
+        let (a, b) = slab_interval(RG, 1.0, RG + 1.0, RG + 2.0).unwrap();
+        assert!((a - 1.0).abs() < 1e-3 && (b - 2.0).abs() < 1e-3, "{a} {b}");
+        // From the ground down: the ground hides the far side.
+        assert!(shell()
+            .slab(Vec3::new(0.0, 0.98, -0.2).normalize(), 1.0, 2.0)
+            .is_none());
+        // Inside the slab looking down: to the base.
+        let (a, b) = slab_interval(RG + 1.5, -1.0, RG + 1.0, RG + 2.0).unwrap();
+        assert!(a == 0.0 && (b - 0.5).abs() < 1e-3, "{a} {b}");
+        // Above looking down: top to base.
+        let (a, b) = slab_interval(RG + 3.0, -1.0, RG + 1.0, RG + 2.0).unwrap();
+        assert!((a - 1.0).abs() < 1e-3 && (b - 2.0).abs() < 1e-3, "{a} {b}");
+        // The horizontal ray from the ground: a long, finite slant path.
+        let (a, b) = slab_interval(RG, 0.0, RG + 1.0, RG + 2.0).unwrap();
+        let expect = |h: f32| ((RG + h).powi(2) - RG * RG).sqrt();
+        assert!((a / expect(1.0) - 1.0).abs() < 1e-3 && (b / expect(2.0) - 1.0).abs() < 1e-3);
+    }
+
+    fn field() -> LowField {
+        LowField::new(
+            &LowCloudSpec {
+                coverage: 0.7,
+                ..LowCloudSpec::default()
+            },
+            0.0,
+        )
+    }
+
+    /// The march's transmittance is e^{−τ} of the same ray's optical depth,
+    /// the radiance is linear in the light, and without light there is none.
+    #[test]
+    fn march_is_consistent_and_linear() {
+        let f = field();
+        let sh = shell();
+        let sun = Vec3::new(0.3, 0.2, 0.93).normalize();
+        let light = |e: f32| {
+            [CloudLight {
+                dir: sun,
+                irradiance_rgb: [e, e, e],
+            }]
+        };
+        let mut seen = 0;
+        for i in 0..40 {
+            let a = i as f32 * 0.157;
+            let v = Vec3::new(a.cos() * 0.5, a.sin() * 0.5, 0.8).normalize();
+            let h1 = march_low(&f, &sh, v, &light(1.0), [0.0; 3], &SETTINGS);
+            let h2 = march_low(&f, &sh, v, &light(2.0), [0.0; 3], &SETTINGS);
+            let h0 = march_low(&f, &sh, v, &light(0.0), [0.0; 3], &SETTINGS);
+            let tau = optical_depth_low(&f, &sh, v, 64);
+            if h1.transmittance > 1e-3 {
+                assert!((h1.transmittance - (-tau).exp()).abs() < 1e-3);
+            }
+            assert!((h2.radiance[1] - 2.0 * h1.radiance[1]).abs() <= 1e-4 * h2.radiance[1]);
+            assert_eq!(h0.radiance, [0.0; 3]);
+            // Energy: a white cloud lit by E never exceeds the radiance of
+            // a perfect diffuse reflector times the forward peak's gain.
+            assert!(h1.radiance[1] >= 0.0 && h1.radiance[1].is_finite());
+            seen += (h1.transmittance < 0.9) as u32;
+        }
+        assert!(seen > 5, "the rays should meet clouds: {seen}");
+    }
+
+    /// In the thin limit the high layer scatters p(θ) E τ / μ_v and
+    /// transmits e^{−τ/μ_v}.
+    #[test]
+    fn high_layer_thin_limit() {
+        let spec = HighCloudSpec {
+            coverage: 1.0,
+            optical_depth: 1e-3,
+            ..HighCloudSpec::default()
+        };
+        let f = HighField::new(&spec, 0.0);
+        let sh = shell();
+        let v = Vec3::Z;
+        let sun = Vec3::new(0.0, 0.6, 0.8);
+        let lights = [CloudLight {
+            dir: sun,
+            irradiance_rgb: [1.0; 3],
+        }];
+        let hit = shade_high(&f, &sh, v, &lights, [0.0; 3]);
+        let tau = f.optical_depth(glam::Vec2::ZERO);
+        assert!(tau > 0.0);
+        let expect = CLOUD_PHASE.eval(v.dot(sun), 1.0) * tau;
+        assert!(
+            (hit.radiance[0] / expect - 1.0).abs() < 0.01,
+            "{hit:?} {expect}"
+        );
+        assert!((hit.transmittance - (-tau).exp()).abs() < 1e-6);
+    }
+
+    /// The two-lobe phase function and each octave's are normalised.
+    #[test]
+    fn phase_is_normalised() {
+        for k in [1.0, 0.5, 0.25] {
+            let n = 20_000;
+            let s: f64 = (0..n)
+                .map(|i| {
+                    let mu = -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+                    CLOUD_PHASE.eval(mu as f32, k) as f64 * 2.0 / n as f64
+                })
+                .sum::<f64>()
+                * 2.0
+                * std::f64::consts::PI;
+            assert!((s - 1.0).abs() < 1e-3, "{k}: {s}");
+        }
+    }
+}

@@ -1,0 +1,277 @@
+//! The clouds pass's frame ([`CloudFrame`]): the layers' fields at the
+//! frame's instant, the lights at the cloud, the sky's ambient radiance,
+//! and the composition of a cloud over what lies behind it.
+//!
+//! Composition. A pixel that already holds the sky behind the cloud, P =
+//! L_air(0, d) + T_air(0, d) · X (X: the radiance reaching the cloud's
+//! distance d from beyond, the stars and the Moon included), becomes
+//!
+//! ```text
+//! P' = L_air(0, d) + T_air(0, d) · (L_cloud + T_cloud · X)
+//!    = T_cloud · P + (1 − T_cloud) · L_air(0, d) + T_air(0, d) · L_cloud,
+//! ```
+//!
+//! with L_air, T_air the aerial perspective between the camera and the
+//! cloud ([`AerialPerspective`], Hillaire 2020 §5.5). Everything behind a
+//! cloud of optical depth τ is dimmed by e^{−τ}, stars and Milky Way
+//! included. The high layer is composed first (it is farther), then the
+//! low layer.
+//!
+//! Lights. The Sun (and the Moon on a moonlit night) light the cloud with
+//! their irradiance outside the atmosphere × the atmosphere's spectral
+//! transmittance from the point where the view ray enters the layer (the
+//! Earth's shadow included: high clouds stay lit after sunset). Without
+//! the atmosphere pass the lights are not extinguished and there is no
+//! sky light: the isolated configuration of `--effects clouds`, used by
+//! the Mitsuba comparison.
+//!
+//! Ambient. The sky's mean radiance over the upper hemisphere, E_h / π
+//! (E_h the sky's horizontal illuminance at the observer, no Sun disk),
+//! scattered isotropically ([`crate::clouds::march`] scales it with the
+//! height in the low layer).
+
+use std::sync::Arc;
+
+use glam::{DVec3, Vec3};
+
+#[cfg(doc)]
+use super::lights::sky_horizontal_rgb;
+use super::lights::AerialPerspective;
+use super::sky_light::SkyInputs;
+use crate::atmosphere::AtmosphereLuts;
+use crate::clouds::{
+    march_low, shade_high, CloudHit, CloudLight, HighField, LowField, MarchSettings, Shell, OCTAVES,
+};
+use crate::moon::lunar_reflectance_spectrum;
+use crate::scene::Scene;
+use crate::spectrum::{BandWeights, Spectrum};
+use crate::state::SkyState;
+
+/// Julian date (TT) of J2000.0, the wind's epoch.
+const J2000_TT: f64 = 2_451_545.0;
+/// Earth radius without an atmosphere model, km.
+const EARTH_RADIUS_KM: f32 = 6360.0;
+/// Below this transmittance change a layer leaves the pixel alone.
+const CLEAR: f32 = 1e-5;
+
+/// A light of the frame: unit ENU direction and its spectrum outside the
+/// atmosphere (band transfer factors of the 1 AU solar spectrum).
+#[derive(Debug, Clone, Copy)]
+struct FrameLight {
+    dir: Vec3,
+    spectrum: Spectrum,
+}
+
+/// Everything the clouds pass of one frame needs.
+#[derive(Debug, Clone)]
+pub struct CloudFrame {
+    /// The low layer, when it has coverage.
+    pub low: Option<LowField>,
+    /// The high layer, when it has coverage and optical depth.
+    pub high: Option<HighField>,
+    /// The ground and the observer, km.
+    pub shell: Shell,
+    /// The low layer's march.
+    pub march: MarchSettings,
+    /// The sky's mean downward radiance, linear sRGB, cd/m².
+    pub ambient_rgb: [f32; 3],
+    lights: Vec<FrameLight>,
+    luts: Option<Arc<AtmosphereLuts>>,
+    sky_inputs: Option<SkyInputs>,
+    weights: BandWeights,
+}
+
+impl CloudFrame {
+    /// The frame of `scene` at `state`: `luts` and `sky_inputs` when the
+    /// atmosphere pass runs, `sky_horizontal_rgb` the sky's horizontal
+    /// illuminance ([`sky_horizontal_rgb`], linear sRGB, lux) when known.
+    pub fn prepare(
+        scene: &Scene,
+        state: &SkyState,
+        luts: Option<Arc<AtmosphereLuts>>,
+        sky_inputs: Option<SkyInputs>,
+        sky_horizontal_rgb: Option<[f64; 3]>,
+    ) -> CloudFrame {
+        let seconds = (state.jd_tt - J2000_TT) * 86_400.0;
+        let c = &scene.clouds;
+        let r_ground = luts.as_ref().map_or(EARTH_RADIUS_KM, |l| l.medium.bottom);
+        let shell = Shell {
+            r_ground,
+            r_observer: r_ground + state.observer_altitude_km as f32,
+        };
+        let sun = &state.sun;
+        let mut lights = Vec::new();
+        let sun_dir = sun.dir().as_vec3().normalize();
+        // With an atmosphere the transmittance LUT decides (Earth's shadow);
+        // without, the Sun lights the clouds while it is up.
+        if sun_dir.z > if luts.is_some() { -0.2 } else { 0.0 } {
+            let scale = (sun.irradiance_scale * sun.visible_fraction) as f32;
+            lights.push(FrameLight {
+                dir: sun_dir,
+                spectrum: Spectrum::splat(scale),
+            });
+        }
+        let pole = DVec3::from_array(state.celestial_pole).as_vec3();
+        if let Some(scale) = crate::moon::moonlight_scale(scene, sun, &state.moon, pole) {
+            lights.push(FrameLight {
+                dir: state.moon.dir().as_vec3().normalize(),
+                spectrum: lunar_reflectance_spectrum() * scale as f32,
+            });
+        }
+        let ambient_rgb =
+            sky_horizontal_rgb.map_or([0.0; 3], |e| e.map(|v| (v / std::f64::consts::PI) as f32));
+        CloudFrame {
+            low: c.has_low().then(|| LowField::new(&c.low, seconds)),
+            high: c.has_high().then(|| HighField::new(&c.high, seconds)),
+            shell,
+            march: MarchSettings {
+                steps: c.low.steps,
+                light_steps: c.low.light_steps,
+                octaves: OCTAVES,
+            },
+            ambient_rgb,
+            lights,
+            luts,
+            sky_inputs,
+            weights: BandWeights::solar(),
+        }
+    }
+
+    /// The lights at the point `t` km along `view` (their irradiance after
+    /// the atmosphere's transmittance from there).
+    pub fn lights_at(&self, view: Vec3, t: f32) -> Vec<CloudLight> {
+        let p = Vec3::new(0.0, 0.0, self.shell.r_observer) + view * t;
+        let r = p.length();
+        self.lights
+            .iter()
+            .map(|l| {
+                let e = match &self.luts {
+                    Some(luts) => l.spectrum * luts.sun_transmittance(r, p.dot(l.dir) / r),
+                    None => l.spectrum,
+                };
+                CloudLight {
+                    dir: l.dir,
+                    irradiance_rgb: self.weights.to_rgb(&e).map(|v| v.max(0.0)),
+                }
+            })
+            .collect()
+    }
+
+    /// The low layer along `view` (no aerial perspective).
+    pub fn low_hit(&self, view: Vec3) -> CloudHit {
+        let Some(f) = &self.low else {
+            return CloudHit::CLEAR;
+        };
+        let Some((t0, _)) = self.shell.slab(view, f.base_km, f.top_km) else {
+            return CloudHit::CLEAR;
+        };
+        let lights = self.lights_at(view, t0);
+        march_low(f, &self.shell, view, &lights, self.ambient_rgb, &self.march)
+    }
+
+    /// The high layer along `view` (no aerial perspective).
+    pub fn high_hit(&self, view: Vec3) -> CloudHit {
+        let Some(f) = &self.high else {
+            return CloudHit::CLEAR;
+        };
+        let probe = shade_high(f, &self.shell, view, &[], [0.0; 3]);
+        if probe.transmittance >= 1.0 - CLEAR {
+            return CloudHit::CLEAR;
+        }
+        let lights = self.lights_at(view, probe.distance_km);
+        shade_high(f, &self.shell, view, &lights, self.ambient_rgb)
+    }
+
+    /// `behind` (the pixel's radiance so far, cd/m²) seen through both
+    /// layers along `view`, with the aerial perspective in front of each.
+    pub fn composite(&self, view: Vec3, behind: [f32; 3]) -> [f32; 3] {
+        let mut px = behind;
+        for hit in [self.high_hit(view), self.low_hit(view)] {
+            if hit.transmittance >= 1.0 - CLEAR {
+                continue;
+            }
+            let (l_air, t_air) = self.air(view, hit.distance_km);
+            let t = hit.transmittance;
+            for c in 0..3 {
+                px[c] = t * px[c] + (1.0 - t) * l_air[c] + t_air[c] * hit.radiance[c];
+            }
+        }
+        px
+    }
+
+    /// In-scattered radiance and transmittance of the air between the
+    /// camera and `d_km` along `view` (none without the atmosphere pass).
+    fn air(&self, view: Vec3, d_km: f32) -> ([f32; 3], [f32; 3]) {
+        match (&self.luts, &self.sky_inputs) {
+            (Some(luts), Some(inputs)) => {
+                let ap = AerialPerspective::compute(
+                    luts,
+                    inputs,
+                    self.shell.r_observer,
+                    &[view],
+                    &[d_km * 1000.0],
+                );
+                ap.table.first().copied().unwrap_or(([0.0; 3], [1.0; 3]))
+            }
+            _ => ([0.0; 3], [1.0; 3]),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clouds::optical_depth_low;
+    use crate::scene::Effect;
+
+    /// A scene with a low layer and no atmosphere (the isolated
+    /// configuration), at noon.
+    fn frame(coverage: f64) -> CloudFrame {
+        let mut s = Scene::default();
+        s.time.utc = "2024-06-21T11:00:00Z".into();
+        s.effects = vec![Effect::Clouds];
+        s.clouds.low.coverage = coverage;
+        let state = SkyState::at(&s).expect("state");
+        CloudFrame::prepare(&s, &state, None, None, None)
+    }
+
+    /// What lies behind a cloud (stars, the Milky Way, the Moon) is dimmed
+    /// by e^{−τ} of the cloud's optical depth along the line of sight.
+    #[test]
+    fn what_lies_behind_is_dimmed_by_the_optical_depth() {
+        let mut f = frame(0.6);
+        f.lights.clear();
+        let low = f.low.expect("a low layer");
+        let mut checked = 0;
+        for i in 0..60 {
+            let a = i as f32 * 0.21;
+            let v = Vec3::new(a.cos() * 0.4, a.sin() * 0.4, 0.9).normalize();
+            let star = [3.0, 2.0, 1.0];
+            let out = f.composite(v, star);
+            let t = (-optical_depth_low(&low, &f.shell, v, f.march.steps)).exp();
+            if t > 0.01 && t < 0.99 {
+                for c in 0..3 {
+                    assert!((out[c] / (star[c] * t) - 1.0).abs() < 0.02, "{out:?} {t}");
+                }
+                checked += 1;
+            }
+        }
+        assert!(checked > 5, "{checked}");
+    }
+
+    /// The Sun lights the clouds while it is up: a sunlit cloud is bright,
+    /// and without an atmosphere its light is the Sun's illuminance outside
+    /// the atmosphere (about 130 klx).
+    #[test]
+    fn the_sun_lights_the_clouds() {
+        let f = frame(0.8);
+        let lights = f.lights_at(Vec3::Z, 1.0);
+        assert_eq!(lights.len(), 1);
+        let e = crate::spectrum::luminance(lights[0].irradiance_rgb);
+        assert!((125_000.0..140_000.0).contains(&e), "{e}");
+        let hit = f.low_hit(Vec3::new(0.2, 0.1, 0.97).normalize());
+        assert!(hit.transmittance < 1.0);
+        let y = crate::spectrum::luminance(hit.radiance);
+        assert!(y > 100.0 && y.is_finite(), "{y}");
+    }
+}

@@ -1,0 +1,69 @@
+//! The cloud models' cost per ray (`cargo bench -p himmel-tests --bench
+//! clouds`): the low layer's march (default cumulus at coverage 0.6, 64
+//! steps per slab, 6 light steps, 6 octaves) and the high layer's
+//! shading, over a fan of 256 view rays above 20° altitude.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use glam::Vec3;
+use himmel_skymodel::clouds::{
+    march_low, shade_high, CloudLight, HighField, LowField, MarchSettings, Shell, OCTAVES,
+};
+use himmel_skymodel::scene::{HighCloudSpec, LowCloudSpec};
+
+fn rays() -> Vec<Vec3> {
+    (0..256)
+        .map(|i| {
+            let az = i as f32 * 0.618 * std::f32::consts::TAU;
+            let alt = (20.0 + 70.0 * (i as f32 / 256.0)).to_radians();
+            Vec3::new(alt.cos() * az.sin(), alt.cos() * az.cos(), alt.sin())
+        })
+        .collect()
+}
+
+fn bench(c: &mut Criterion) {
+    let shell = Shell {
+        r_ground: 6360.0,
+        r_observer: 6360.0,
+    };
+    let low = LowField::new(
+        &LowCloudSpec {
+            coverage: 0.6,
+            ..LowCloudSpec::default()
+        },
+        0.0,
+    );
+    let high = HighField::new(
+        &HighCloudSpec {
+            coverage: 0.6,
+            ..HighCloudSpec::default()
+        },
+        0.0,
+    );
+    let lights = [CloudLight {
+        dir: Vec3::new(0.3, -0.5, 0.81).normalize(),
+        irradiance_rgb: [1.0e5; 3],
+    }];
+    let settings = MarchSettings {
+        steps: 64,
+        light_steps: 6,
+        octaves: OCTAVES,
+    };
+    let rays = rays();
+    c.bench_function("clouds/low_march_256_rays", |b| {
+        b.iter(|| {
+            rays.iter()
+                .map(|&v| march_low(&low, &shell, v, &lights, [1.0e3; 3], &settings).transmittance)
+                .sum::<f32>()
+        })
+    });
+    c.bench_function("clouds/high_shade_256_rays", |b| {
+        b.iter(|| {
+            rays.iter()
+                .map(|&v| shade_high(&high, &shell, v, &lights, [1.0e3; 3]).transmittance)
+                .sum::<f32>()
+        })
+    });
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);

@@ -1,0 +1,257 @@
+//! The low cloud layer against Mitsuba 3 (issue 18): the path-traced
+//! references of `tests/fixtures/cloud_ref/` (`tools/cloud_reference.py`:
+//! Himmel's own density field exported on a voxel grid, Mitsuba's `volpath`
+//! with every order of scattering) beside Himmel's march of the same field
+//! ([`march_low`]: self-shadowing light march and Wrenninge's octaves), in
+//! the isolated configuration: a directional Sun of irradiance 1, no
+//! atmosphere, no sky light, a black world.
+//!
+//! * radiance, seen from the ground looking at the zenith, at two Sun
+//!   altitudes: the luminance-weighted mean relative error Σ|ΔY| / ΣY_ref
+//!   over the cloud pixels (Himmel's transmittance below 0.9); the goal
+//!   is 15 %, the bounds are what this version achieves
+//!   ([`radiance_bound`]);
+//! * the transmittance of the direct Sun through the layer along parallel
+//!   rays towards the Sun ([`optical_depth_ray`], the view march's
+//!   stepping): Σ|ΔT| / ΣT_ref over the pixels whose ray meets cloud ≤ 5 %.
+//!
+//! The grid sum in `references.json` must equal the sum of Himmel's field
+//! on the same grid ([`LowField::voxel_grid`]): the references were made
+//! from the field rendered here. `cargo test -p himmel-tests --test
+//! cloud_mitsuba -- --nocapture` prints the figures the README quotes.
+
+mod world_common;
+
+use glam::Vec3;
+use himmel_skymodel::clouds::{
+    march_low, optical_depth_ray, CloudLight, LowField, MarchSettings, Shell, OCTAVES,
+};
+use himmel_skymodel::scene::LowCloudSpec;
+use serde_json::Value;
+use world_common::metrics::{mean_relative_error, pixel_relative_error, read_exr, RgbImage};
+
+const R_GROUND: f32 = 6360.0;
+
+fn dir() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cloud_ref")
+}
+
+fn json(name: &str) -> Value {
+    let text = std::fs::read_to_string(dir().join(name)).expect("fixture");
+    serde_json::from_str(&text).expect("JSON")
+}
+
+/// ENU unit vector at altitude/azimuth (degrees).
+fn towards(alt_deg: f64, az_deg: f64) -> Vec3 {
+    let (a, z) = (alt_deg.to_radians(), az_deg.to_radians());
+    Vec3::new(
+        (a.cos() * z.sin()) as f32,
+        (a.cos() * z.cos()) as f32,
+        a.sin() as f32,
+    )
+}
+
+struct Setup {
+    field: LowField,
+    spec: LowCloudSpec,
+    shell: Shell,
+    settings: MarchSettings,
+    v: Value,
+}
+
+fn setup() -> Setup {
+    let v = json("setup.json");
+    let spec: LowCloudSpec = serde_json::from_value(v["low"].clone()).expect("clouds.low");
+    Setup {
+        field: LowField::new(&spec, 0.0),
+        settings: MarchSettings {
+            steps: spec.steps,
+            light_steps: spec.light_steps,
+            octaves: OCTAVES,
+        },
+        spec,
+        shell: Shell {
+            r_ground: R_GROUND,
+            r_observer: R_GROUND,
+        },
+        v,
+    }
+}
+
+/// Sub-samples per pixel side: Mitsuba's box filter averages over the
+/// pixel, so Himmel's images average an n × n grid of sub-pixel samples.
+const SUB: usize = 3;
+
+/// Normalised device coordinates (y up) of sub-sample (si, sj) of pixel
+/// (i, j) of a w × h image.
+fn ndc(i: usize, j: usize, (si, sj): (usize, usize), w: usize, h: usize) -> (f32, f32) {
+    let fx = (si as f32 + 0.5) / SUB as f32;
+    let fy = (sj as f32 + 0.5) / SUB as f32;
+    (
+        2.0 * (i as f32 + fx) / w as f32 - 1.0,
+        1.0 - 2.0 * (j as f32 + fy) / h as f32,
+    )
+}
+
+/// The mean of `f` over the pixel's sub-samples.
+fn box_filter(
+    i: usize,
+    j: usize,
+    w: usize,
+    h: usize,
+    f: impl Fn(f32, f32) -> [f32; 3],
+) -> [f32; 3] {
+    let mut acc = [0.0f32; 3];
+    for sj in 0..SUB {
+        for si in 0..SUB {
+            let (x, y) = ndc(i, j, (si, sj), w, h);
+            let v = f(x, y);
+            for c in 0..3 {
+                acc[c] += v[c] / (SUB * SUB) as f32;
+            }
+        }
+    }
+    acc
+}
+
+/// Mitsuba's `look_at` camera basis (forward, right = forward × up, up).
+fn basis(forward: Vec3, up_hint: Vec3) -> (Vec3, Vec3) {
+    let right = forward.cross(up_hint).normalize();
+    (right, right.cross(forward))
+}
+
+/// Himmel's radiance and transmittance through the zenith camera.
+fn himmel_radiance(s: &Setup, sun: Vec3) -> (RgbImage, Vec<f32>) {
+    let cam = &s.v["camera"];
+    let (w, h) = (
+        cam["width"].as_u64().unwrap() as usize,
+        cam["height"].as_u64().unwrap() as usize,
+    );
+    let tan = (cam["fov_deg"].as_f64().unwrap().to_radians() * 0.5).tan() as f32;
+    let (right, up) = basis(Vec3::Z, Vec3::Y);
+    let lights = [CloudLight {
+        dir: sun,
+        irradiance_rgb: [1.0; 3],
+    }];
+    let aspect = w as f32 / h as f32;
+    let view = |x: f32, y: f32| (Vec3::Z + right * (x * tan * aspect) + up * (y * tan)).normalize();
+    let img = RgbImage::from_fn(w, h, |i, j| {
+        box_filter(i, j, w, h, |x, y| {
+            march_low(
+                &s.field,
+                &s.shell,
+                view(x, y),
+                &lights,
+                [0.0; 3],
+                &s.settings,
+            )
+            .radiance
+        })
+    });
+    let origin = Vec3::new(0.0, 0.0, R_GROUND);
+    let trans = RgbImage::from_fn(w, h, |i, j| {
+        box_filter(i, j, w, h, |x, y| {
+            let tau = optical_depth_ray(&s.field, &s.shell, origin, view(x, y), s.spec.steps);
+            [(-tau).exp(); 3]
+        })
+    });
+    let trans = trans.pixels.iter().map(|p| p[1]).collect();
+    (img, trans)
+}
+
+/// Himmel's transmittance towards the Sun along the rays through the
+/// points of the plane through the origin perpendicular to the Sun, from
+/// `back_km` behind it (Mitsuba's orthographic camera).
+fn himmel_transmittance(s: &Setup, sun: Vec3) -> RgbImage {
+    let cam = &s.v["shadow_camera"];
+    let (w, h) = (
+        cam["width"].as_u64().unwrap() as usize,
+        cam["height"].as_u64().unwrap() as usize,
+    );
+    let half = cam["half_width_km"].as_f64().unwrap() as f32;
+    let back = cam["back_km"].as_f64().unwrap() as f32;
+    let (right, up) = basis(sun, Vec3::Y);
+    RgbImage::from_fn(w, h, |i, j| {
+        box_filter(i, j, w, h, |x, y| {
+            let q = (right * x + up * y) * half - sun * back;
+            let pos = Vec3::new(q.x, q.y, R_GROUND + q.z);
+            [(-optical_depth_ray(&s.field, &s.shell, pos, sun, s.spec.steps)).exp(); 3]
+        })
+    })
+}
+
+#[test]
+fn references_were_made_from_this_field() {
+    let s = setup();
+    let res: [usize; 3] = serde_json::from_value(s.v["grid"].clone()).unwrap();
+    let sum: f64 = s.field.voxel_grid(res).iter().map(|&x| x as f64).sum();
+    let refs = json("references.json");
+    let expect = refs["grid_sum"].as_f64().unwrap();
+    assert!(
+        (sum / expect - 1.0).abs() < 1e-6,
+        "the field changed since the references were made: grid sum {sum} vs {expect} (rerun tools/cloud_reference.py)"
+    );
+}
+
+/// The radiance bound of each Sun: the issue's goal is 15 %; this version
+/// achieves 20.8 % (Sun at 60°) and 32.6 % (Sun at 20°): Wrenninge's
+/// octaves light the cloud's base too little far from the Sun and too
+/// much on the Sun's side (README, Clouds). A change that makes either
+/// worse fails.
+fn radiance_bound(sun: &str) -> f64 {
+    match sun {
+        "sun60" => 0.22,
+        _ => 0.34,
+    }
+}
+
+#[test]
+fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
+    let s = setup();
+    let mut failures = Vec::new();
+    for sun in s.v["suns"].as_array().unwrap() {
+        let name = sun["name"].as_str().unwrap();
+        let bound = radiance_bound(name);
+        let l = towards(
+            sun["alt_deg"].as_f64().unwrap(),
+            sun["az_deg"].as_f64().unwrap(),
+        );
+        let reference = read_exr(dir().join(format!("{name}_radiance.exr"))).unwrap();
+        let (img, trans) = himmel_radiance(&s, l);
+        let cloud: Vec<bool> = trans.iter().map(|&t| t < 0.9).collect();
+        let n = cloud.iter().filter(|&&c| c).count();
+        let weighted = mean_relative_error(&img, &reference, &cloud);
+        let per_pixel = pixel_relative_error(&img, &reference, &cloud);
+        let sums = img
+            .luminance()
+            .iter()
+            .zip(reference.luminance())
+            .zip(&cloud)
+            .filter(|(_, c)| **c)
+            .fold((0.0, 0.0), |(a, b), ((x, y), _)| (a + x, b + y));
+        println!(
+            "{name}: radiance over {n} cloud pixels: Σ|ΔY|/ΣY {:.1} % (bound {:.0} %), mean |ΔY|/Y {:.1} %, ΣY_himmel/ΣY_mitsuba {:.3}",
+            weighted * 100.0,
+            bound * 100.0,
+            per_pixel * 100.0,
+            sums.0 / sums.1
+        );
+        if weighted.is_nan() || weighted > bound {
+            failures.push(format!("{name} radiance {:.1} %", weighted * 100.0));
+        }
+        let t_ref = read_exr(dir().join(format!("{name}_transmittance.exr"))).unwrap();
+        let t_him = himmel_transmittance(&s, l);
+        let through: Vec<bool> = t_him.pixels.iter().map(|p| p[1] < 0.999).collect();
+        let e = mean_relative_error(&t_him, &t_ref, &through);
+        let m = through.iter().filter(|&&c| c).count();
+        println!(
+            "{name}: Sun transmittance over {m} pixels: Σ|ΔT|/ΣT {:.2} %",
+            e * 100.0
+        );
+        if e.is_nan() || e > 0.05 {
+            failures.push(format!("{name} transmittance {:.2} %", e * 100.0));
+        }
+        assert!(n > 50 && m > 50, "{name}: too few cloud pixels ({n}, {m})");
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
