@@ -4,9 +4,11 @@
 //! project's `spec/cli.md`. Exit codes: 0 success, 2 invalid input,
 //! 3 resource unavailable, 1 other failure. Errors are one line on stderr.
 
+mod cloud_flags;
 mod common;
 mod ephemeris_cmd;
 mod events_cmd;
+mod flag_values;
 mod render_cmd;
 mod sequence_cmd;
 mod stars_cmd;

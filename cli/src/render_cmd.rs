@@ -15,6 +15,7 @@ use serde_json::json;
 
 use crate::common;
 use crate::ephemeris_cmd::{parse_precision, parse_time};
+use crate::flag_values::{finite, size, triple};
 use crate::timearg::format_utc;
 use crate::CliError;
 
@@ -173,23 +174,6 @@ pub struct TemplateArgs {
     sky_texture: bool,
 }
 
-/// Parses `X,Y,Z` (three finite numbers) for `flag`.
-fn triple(flag: &str, s: &str) -> Result<[f64; 3], CliError> {
-    let parts: Vec<&str> = s.split(',').map(str::trim).collect();
-    let bad = || CliError::input(format!("{flag} '{s}': expected three numbers X,Y,Z"));
-    if parts.len() != 3 {
-        return Err(bad());
-    }
-    let mut v = [0.0; 3];
-    for (o, p) in v.iter_mut().zip(&parts) {
-        *o = p.parse::<f64>().map_err(|_| bad())?;
-        if !o.is_finite() {
-            return Err(bad());
-        }
-    }
-    Ok(v)
-}
-
 /// A scene error as a one-line input error naming the flag and the field:
 /// `--lat (observer.lat_deg): …` when the flag set the value, else
 /// `--scene FILE: field: …` (or `--scene (field): …` without a file).
@@ -199,30 +183,6 @@ pub(crate) fn scene_error(a: &RenderArgs, e: himmel_skymodel::SceneError) -> Cli
         (None, Some(p)) => CliError::input(format!("--scene {}: {e}", p.display())),
         (None, None) => CliError::input(format!("--scene ({}): {}", e.field, e.message)),
     }
-}
-
-pub(crate) fn finite(flag: &str, v: f64) -> Result<f64, CliError> {
-    if v.is_finite() {
-        Ok(v)
-    } else {
-        Err(CliError::input(format!(
-            "{flag} {v} is not a finite number"
-        )))
-    }
-}
-
-fn size(flag: &str, v: u64) -> Result<u32, CliError> {
-    if v == 0 {
-        return Err(CliError::input(format!(
-            "{flag} 0: must be at least 1 pixel"
-        )));
-    }
-    u32::try_from(v).map_err(|_| {
-        CliError::input(format!(
-            "{flag} {v}: image larger than the limit of 64 Mpx (W·H ≤ {})",
-            himmel_skymodel::projection::MAX_PIXELS
-        ))
-    })
 }
 
 /// The flag that set a scene field on this command line, if one did (for
@@ -386,56 +346,20 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
         }
     }
     crate::texture_cmd::apply_flags(a, &mut scene)?;
-    apply_cloud_flags(a, &mut scene)?;
+    crate::cloud_flags::apply(
+        crate::cloud_flags::CloudFlags {
+            kind: a.clouds_type.as_deref(),
+            coverage: a.clouds_coverage,
+            cirrus_coverage: a.cirrus_coverage,
+            effects_listed: a.effects.is_some(),
+        },
+        &mut scene,
+    )?;
     if scene.world.is_some() && a.projection.is_none() && a.scene.is_none() {
         scene.camera.projection = Projection::Perspective;
     }
     scene.validate().map_err(|e| scene_error(a, e))?;
     Ok(scene)
-}
-
-/// Applies `--clouds-coverage`, `--clouds-type` and `--cirrus-coverage`.
-/// A flag that asks for clouds adds the `clouds` effect when `--effects`
-/// did not list the effects.
-fn apply_cloud_flags(a: &RenderArgs, scene: &mut Scene) -> Result<(), CliError> {
-    use himmel_skymodel::scene::LowCloudKind;
-    let c = &mut scene.clouds;
-    let cirrus = match a.clouds_type.as_deref() {
-        None => false,
-        Some(t) if t.trim().eq_ignore_ascii_case("cirrus") => true,
-        Some(t) => {
-            c.low.kind = LowCloudKind::from_name(t).ok_or_else(|| {
-                CliError::input(format!(
-                    "--clouds-type: unknown type '{t}'; expected cumulus, stratocumulus, stratus or cirrus"
-                ))
-            })?;
-            false
-        }
-    };
-    let cov = a
-        .clouds_coverage
-        .map(|v| finite("--clouds-coverage", v))
-        .transpose()?;
-    if cirrus {
-        c.high.coverage = cov.unwrap_or(0.5);
-        if let Some(v) = a.cirrus_coverage {
-            c.high.coverage = finite("--cirrus-coverage", v)?;
-        }
-    } else {
-        if let Some(v) = cov {
-            c.low.coverage = v;
-        } else if a.clouds_type.is_some() && c.low.coverage == 0.0 {
-            c.low.coverage = 0.5;
-        }
-        if let Some(v) = a.cirrus_coverage {
-            c.high.coverage = finite("--cirrus-coverage", v)?;
-        }
-    }
-    let asked = a.clouds_type.is_some() || cov.is_some() || a.cirrus_coverage.is_some();
-    if asked && a.effects.is_none() && !scene.effects.contains(&himmel_skymodel::Effect::Clouds) {
-        scene.effects.push(himmel_skymodel::Effect::Clouds);
-    }
-    Ok(())
 }
 
 /// Loads the scene's world, if it has one: `world.gltf` relative to the

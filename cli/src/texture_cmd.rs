@@ -129,7 +129,7 @@ pub(crate) fn apply_flags(a: &RenderArgs, scene: &mut Scene) -> Result<(), CliEr
         })?;
     }
     if let Some(v) = a.sky_blend {
-        spec.blend = crate::render_cmd::finite("--sky-blend", v)?;
+        spec.blend = crate::flag_values::finite("--sky-blend", v)?;
     }
     if let Some(u) = &a.sky_units {
         spec.units = match u.trim() {
