@@ -5,6 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::scene::check_range;
 use crate::scene_error::SceneError;
 use crate::units::show;
 
@@ -141,17 +142,6 @@ pub struct CloudsSpec {
     pub high: HighCloudSpec,
 }
 
-fn range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
-    if v.is_finite() && (lo..=hi).contains(&v) {
-        Ok(())
-    } else {
-        Err(SceneError::new(
-            field,
-            format!("{} is outside [{}, {}]", show(v), show(lo), show(hi)),
-        ))
-    }
-}
-
 fn steps(field: &str, v: u32, lo: u32, hi: u32) -> Result<(), SceneError> {
     if (lo..=hi).contains(&v) {
         Ok(())
@@ -199,7 +189,7 @@ impl CloudsSpec {
             ("clouds.high.wind_m_s[0]", h.wind_m_s[0], -100.0, 100.0),
             ("clouds.high.wind_m_s[1]", h.wind_m_s[1], -100.0, 100.0),
         ] {
-            range(f, v, lo, hi)?;
+            check_range(f, v, lo, hi)?;
         }
         if l.top_km <= l.base_km {
             return Err(SceneError::new(

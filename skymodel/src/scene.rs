@@ -517,7 +517,7 @@ impl Scene {
 }
 
 /// A finite `v` in [lo, hi], or an error naming `field` and the range.
-fn check_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
+pub(crate) fn check_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
     if v.is_finite() && (lo..=hi).contains(&v) {
         Ok(())
     } else {

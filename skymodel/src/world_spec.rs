@@ -258,16 +258,8 @@ pub fn validate_fog(fog: &Option<FogSpec>) -> Result<(), SceneError> {
     fog.as_ref().map_or(Ok(()), FogSpec::validate)
 }
 
-pub(crate) fn range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
-    if v.is_finite() && (lo..=hi).contains(&v) {
-        Ok(())
-    } else {
-        Err(SceneError {
-            field: field.into(),
-            message: format!("{} is outside [{}, {}]", show(v), show(lo), show(hi)),
-        })
-    }
-}
+/// The scene's range check, for the world's keys and the overlay's.
+pub(crate) use crate::scene::check_range as range;
 
 #[cfg(test)]
 mod tests {
