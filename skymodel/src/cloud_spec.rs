@@ -5,8 +5,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene::check_range;
-use crate::scene_error::SceneError;
+use crate::scene_error::{check_range, SceneError};
 use crate::units::show;
 
 /// The kind of the low, volumetric layer: its vertical density profile

@@ -9,6 +9,7 @@ use crate::camera::Exposure;
 pub use crate::cloud_spec::{CloudsSpec, HighCloudSpec, LowCloudKind, LowCloudSpec};
 pub use crate::overlay_spec::OverlaySpec;
 use crate::projection::Camera;
+use crate::scene_error::check_range;
 pub use crate::scene_error::SceneError;
 pub use crate::texture_spec::SkyTextureSpec;
 use crate::units::show;
@@ -513,18 +514,6 @@ impl Scene {
             ));
         }
         check_range("lut.forward_peak_deg", l.forward_peak_deg.into(), 0.0, 90.0)
-    }
-}
-
-/// A finite `v` in [lo, hi], or an error naming `field` and the range.
-pub(crate) fn check_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
-    if v.is_finite() && (lo..=hi).contains(&v) {
-        Ok(())
-    } else {
-        Err(SceneError::new(
-            field,
-            format!("{} is outside [{}, {}]", show(v), show(lo), show(hi)),
-        ))
     }
 }
 

@@ -31,3 +31,20 @@ impl SceneError {
         }
     }
 }
+
+/// A finite `v` in [lo, hi], or an error naming `field` and the range.
+pub(crate) fn check_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), SceneError> {
+    if v.is_finite() && (lo..=hi).contains(&v) {
+        Ok(())
+    } else {
+        Err(SceneError::new(
+            field,
+            format!(
+                "{} is outside [{}, {}]",
+                crate::units::show(v),
+                crate::units::show(lo),
+                crate::units::show(hi)
+            ),
+        ))
+    }
+}

@@ -259,7 +259,7 @@ pub fn validate_fog(fog: &Option<FogSpec>) -> Result<(), SceneError> {
 }
 
 /// The scene's range check, for the world's keys and the overlay's.
-pub(crate) use crate::scene::check_range as range;
+pub(crate) use crate::scene_error::check_range as range;
 
 #[cfg(test)]
 mod tests {
