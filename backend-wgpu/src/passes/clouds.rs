@@ -172,16 +172,8 @@ const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 384);
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
     let rgb = BandWeights::solar().to_rgb(s).map(|v| v.max(0.0));
     let (d, sp, c) = match k {
-        0 => (
-            &mut u.light0_dir,
-            &mut u.light0_spectrum,
-            &mut u.light0_rgb,
-        ),
-        _ => (
-            &mut u.light1_dir,
-            &mut u.light1_spectrum,
-            &mut u.light1_rgb,
-        ),
+        0 => (&mut u.light0_dir, &mut u.light0_spectrum, &mut u.light0_rgb),
+        _ => (&mut u.light1_dir, &mut u.light1_spectrum, &mut u.light1_rgb),
     };
     *d = dir.to_array();
     *sp = band_groups(s);

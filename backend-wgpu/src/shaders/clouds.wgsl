@@ -278,8 +278,8 @@ fn slab_from(r: f32, mu: f32, lo_km: f32, hi_km: f32) -> vec3<f32> {
     }
     var end = s.y;
     let g = inside_sphere(r, mu, clouds.r_ground);
-    if (g.z != 0.0 && g.x >= 0.0) {
-        end = min(end, g.x);
+    if (g.z != 0.0 && mu < 0.0) {
+        end = min(end, max(g.x, 0.0));
     }
     return vec3<f32>(s.x, end, select(0.0, 1.0, end > s.x));
 }
