@@ -25,7 +25,7 @@ use himmel_skymodel::clouds::noise::OCTAVE_SHIFT;
 use himmel_skymodel::clouds::CLOUD_PHASE;
 use himmel_skymodel::frame::clouds::CLEAR;
 use himmel_skymodel::frame::lights::AERIAL_STEPS;
-use himmel_skymodel::frame::CloudFrame;
+use himmel_skymodel::frame::{CloudFrame, SkyInputs};
 use himmel_skymodel::spectrum::{BandWeights, Spectrum};
 use himmel_skymodel::{FramePlan, RenderError};
 use wgpu::util::DeviceExt;
@@ -180,9 +180,10 @@ fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
     *c = rgb;
 }
 
-/// The pass's uniforms for the frame plan's clouds `c`; `air` when the
-/// atmosphere pass runs (`plan.luts` and `plan.sky_inputs`).
-pub fn cloud_uniforms(plan: &FramePlan, c: &CloudFrame) -> CloudUniforms {
+/// The pass's uniforms for the frame plan's clouds `c`, with `air` the
+/// lights of the aerial perspective when the atmosphere pass runs (the
+/// plan's `sky_inputs`, its LUTs bound beside).
+pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms {
     let m = &c.march;
     let mut u = CloudUniforms {
         octave_shift: OCTAVE_SHIFT.to_array(),
@@ -238,7 +239,7 @@ pub fn cloud_uniforms(plan: &FramePlan, c: &CloudFrame) -> CloudUniforms {
     for (k, (dir, s)) in lights.iter().take(2).enumerate() {
         set_light(&mut u, k, *dir, s);
     }
-    if let (Some(_), Some(inputs)) = (&plan.luts, &plan.sky_inputs) {
+    if let Some(inputs) = air {
         u.air = 1;
         u.air_sun = inputs.sun_dir.to_array();
         u.air_sun_scale = inputs.sun.irradiance_scale;
@@ -293,9 +294,10 @@ impl CloudsPass {
         let Some(c) = plan.clouds.as_ref() else {
             return Ok(None);
         };
-        let u = cloud_uniforms(plan, c);
-        let (atmo, luts) = match (&plan.luts, &plan.sky_inputs) {
-            (Some(luts), Some(inputs)) if u.air != 0 => {
+        let air = plan.luts.as_ref().zip(plan.sky_inputs.as_ref());
+        let u = cloud_uniforms(c, air.map(|(_, inputs)| inputs));
+        let (atmo, luts) = match air {
+            Some((luts, inputs)) => {
                 let g = gpu_luts.upload(gpu, luts);
                 let bufs = [g.trans.clone(), g.trans_s.clone(), g.multi.clone()];
                 (atmosphere_uniforms(luts, &inputs.sun), bufs)
@@ -428,5 +430,46 @@ mod tests {
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);
+    }
+
+    /// The uniforms carry the Rust model's values: the frame's fields, the
+    /// phase function, the octaves, the march settings, the lights.
+    #[test]
+    fn uniforms_carry_the_model() {
+        use himmel_skymodel::clouds::OCTAVES;
+        use himmel_skymodel::{Effect, Scene, SkyState};
+        let mut s = Scene::default();
+        s.time.utc = "2024-06-21T11:00:00Z".into();
+        s.effects = vec![Effect::Clouds];
+        s.clouds.low.coverage = 0.6;
+        s.clouds.low.steps = 48;
+        s.clouds.low.extent_km = 3.0;
+        s.clouds.high.coverage = 0.3;
+        let state = SkyState::at(&s).expect("state");
+        let c = CloudFrame::prepare(&s, &state, None, None, None);
+        let u = cloud_uniforms(&c, None);
+        let (low, high) = (c.low.expect("low"), c.high.expect("high"));
+        assert_eq!((u.has_low, u.has_high, u.air), (1, 1, 0));
+        assert_eq!(u.low_offset_km, low.offset_km.to_array());
+        assert_eq!(u.low_half_extent_km, 3.0);
+        assert_eq!(u.high_inv_scale_along, high.inv_scale_along);
+        assert_eq!((u.steps, u.light_steps), (48, c.march.light_steps));
+        assert_eq!(
+            [u.octave_a, u.octave_b, u.octave_c],
+            [OCTAVES.a, OCTAVES.b, OCTAVES.c]
+        );
+        assert_eq!(u.octave_count, OCTAVES.n);
+        assert_eq!(u.phase_g_forward, CLOUD_PHASE.g_forward);
+        assert_eq!(u.r_observer, c.shell.r_observer);
+        // The Sun, unextinguished without the atmosphere: its irradiance
+        // as the CPU lights the cloud with it.
+        assert_eq!(u.light_count, 1);
+        let cpu = c.lights_at(glam::Vec3::Z, 1.0);
+        assert_eq!(u.light0_rgb, cpu[0].irradiance_rgb);
+        assert_eq!(u.light0_dir, cpu[0].dir.to_array());
+        // An unbounded layer: a finite half-width no position exceeds.
+        s.clouds.low.extent_km = 0.0;
+        let c = CloudFrame::prepare(&s, &state, None, None, None);
+        assert_eq!(cloud_uniforms(&c, None).low_half_extent_km, f32::MAX);
     }
 }
