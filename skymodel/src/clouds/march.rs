@@ -221,11 +221,14 @@ impl Shell {
     }
 
     /// The same from radius `r` at zenith cosine `mu`; the ground hides
-    /// what lies beyond it.
+    /// what lies beyond it. A downward ray that meets the ground sphere
+    /// meets it ahead (at g₀ ≥ 0; from the ground itself g₀ is 0 up to
+    /// rounding, whose sign must not decide whether the cloud shows below
+    /// the horizon).
     pub fn slab_from(&self, r: f32, mu: f32, lo_km: f32, hi_km: f32) -> Option<(f32, f32)> {
         let (start, end) = slab_interval(r, mu, self.r_ground + lo_km, self.r_ground + hi_km)?;
         let end = match inside_sphere(r, mu, self.r_ground) {
-            Some((g0, _)) if g0 >= 0.0 => end.min(g0),
+            Some((g0, _)) if mu < 0.0 => end.min(g0.max(0.0)),
             _ => end,
         };
         (end > start).then_some((start, end))

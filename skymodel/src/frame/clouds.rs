@@ -54,7 +54,7 @@ const J2000_TT: f64 = 2_451_545.0;
 /// Earth radius without an atmosphere model, km.
 const EARTH_RADIUS_KM: f32 = 6360.0;
 /// Below this transmittance change a layer leaves the pixel alone.
-const CLEAR: f32 = 1e-5;
+pub const CLEAR: f32 = 1e-5;
 
 /// A light of the frame: unit ENU direction and its spectrum outside the
 /// atmosphere (band transfer factors of the 1 AU solar spectrum).
@@ -143,6 +143,13 @@ impl CloudFrame {
             sky_inputs,
             weights: BandWeights::solar(),
         }
+    }
+
+    /// The frame's lights: unit ENU direction and spectrum outside the
+    /// atmosphere (band factors of the 1 AU solar spectrum), the Sun's
+    /// first. [`Self::lights_at`] extinguishes them at the cloud.
+    pub fn light_sources(&self) -> Vec<(Vec3, Spectrum)> {
+        self.lights.iter().map(|l| (l.dir, l.spectrum)).collect()
     }
 
     /// The lights at the point `t` km along `view` (their irradiance after
