@@ -22,7 +22,7 @@ use himmel_skymodel::clouds::field::{
 };
 use himmel_skymodel::clouds::march::MAX_MARCH_KM;
 use himmel_skymodel::clouds::noise::OCTAVE_SHIFT;
-use himmel_skymodel::clouds::CLOUD_PHASE;
+use himmel_skymodel::clouds::{MultipleScattering, Octaves, CLOUD_PHASE, OCTAVES};
 use himmel_skymodel::frame::clouds::CLEAR;
 use himmel_skymodel::frame::lights::AERIAL_STEPS;
 use himmel_skymodel::frame::{CloudFrame, SkyInputs};
@@ -148,14 +148,14 @@ pub struct CloudUniforms {
     pub air_steps: u32,
     /// The second light's direction.
     pub light1_dir: [f32; 3],
-    /// Padding.
-    pub _pad0: f32,
+    /// `Diffusion::gain` (0: the octaves model).
+    pub diffusion_gain: f32,
     /// The second light's band factors.
     pub light1_spectrum: [[f32; 4]; 3],
     /// The second light's irradiance without the atmosphere, lux.
     pub light1_rgb: [f32; 3],
-    /// Padding.
-    pub _pad1: f32,
+    /// `Diffusion::g`.
+    pub diffusion_g: f32,
     /// `SkyInputs::sun_dir`.
     pub air_sun: [f32; 3],
     /// `SkyInputs::sun.irradiance_scale`.
@@ -185,6 +185,12 @@ fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
 /// plan's `sky_inputs`, its LUTs bound beside).
 pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms {
     let m = &c.march;
+    // The diffusion model marches the octaves' first term (single
+    // scattering) and adds the diffuse source (march.rs `march_low`).
+    let (octaves, diffusion_g, diffusion_gain) = match m.scattering {
+        MultipleScattering::Octaves(o) => (o, 0.0, 0.0),
+        MultipleScattering::Diffusion(d) => (Octaves { n: 1, ..OCTAVES }, d.g, d.gain),
+    };
     let mut u = CloudUniforms {
         octave_shift: OCTAVE_SHIFT.to_array(),
         noise_contrast: NOISE_CONTRAST,
@@ -193,10 +199,12 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
         high_octaves: HIGH_OCTAVES,
         steps: m.steps,
         light_steps: m.light_steps,
-        octave_count: m.octaves.n,
-        octave_a: m.octaves.a,
-        octave_b: m.octaves.b,
-        octave_c: m.octaves.c,
+        octave_count: octaves.n,
+        octave_a: octaves.a,
+        octave_b: octaves.b,
+        octave_c: octaves.c,
+        diffusion_g,
+        diffusion_gain,
         phase_g_forward: CLOUD_PHASE.g_forward,
         phase_g_back: CLOUD_PHASE.g_back,
         phase_w_forward: CLOUD_PHASE.w_forward,
@@ -419,10 +427,10 @@ mod tests {
                 light0_rgb,
                 air_steps,
                 light1_dir,
-                _pad0,
+                diffusion_gain,
                 light1_spectrum,
                 light1_rgb,
-                _pad1,
+                diffusion_g,
                 air_sun,
                 air_sun_scale,
                 air_moon,
@@ -436,7 +444,7 @@ mod tests {
     /// phase function, the octaves, the march settings, the lights.
     #[test]
     fn uniforms_carry_the_model() {
-        use himmel_skymodel::clouds::OCTAVES;
+        use himmel_skymodel::clouds::DIFFUSION;
         use himmel_skymodel::{Effect, Scene, SkyState};
         let mut s = Scene::default();
         s.time.utc = "2024-06-21T11:00:00Z".into();
@@ -458,7 +466,13 @@ mod tests {
             [u.octave_a, u.octave_b, u.octave_c],
             [OCTAVES.a, OCTAVES.b, OCTAVES.c]
         );
-        assert_eq!(u.octave_count, OCTAVES.n);
+        // The default diffusion model: single scattering as the octaves'
+        // first term, then the diffuse source.
+        assert_eq!(u.octave_count, 1);
+        assert_eq!(
+            (u.diffusion_g, u.diffusion_gain),
+            (DIFFUSION.g, DIFFUSION.gain)
+        );
         assert_eq!(u.phase_g_forward, CLOUD_PHASE.g_forward);
         assert_eq!(u.r_observer, c.shell.r_observer);
         // The Sun, unextinguished without the atmosphere: its irradiance

@@ -83,10 +83,12 @@ struct Clouds {
     // steps of the aerial perspective's march (lights.rs `AERIAL_STEPS`)
     air_steps: u32,
     light1_dir: vec3<f32>,
-    _pad0: f32, // padding
+    // march.rs `Diffusion::gain` (0: the octaves model, `MultipleScattering`)
+    diffusion_gain: f32,
     light1_spectrum: array<vec4<f32>, 3>,
     light1_rgb: vec3<f32>,
-    _pad1: f32, // padding
+    // march.rs `Diffusion::g`
+    diffusion_g: f32,
     // the aerial perspective's lights (sky_light.rs `SkyInputs`): the
     // Sun's direction and irradiance scale, the Moon's (scale 0: none)
     air_sun: vec3<f32>,
@@ -313,6 +315,41 @@ fn optical_depth_to_light(pos: vec3<f32>, l: vec3<f32>, n: u32) -> f32 {
     return tau;
 }
 
+// march.rs `optical_depth_through`.
+fn optical_depth_through(pos: vec3<f32>, dir: vec3<f32>, n: u32) -> f32 {
+    let r = length(pos);
+    let sl = slab_from(r, dot(pos, dir) / r, clouds.low_base_km, clouds.low_top_km);
+    if (sl.z == 0.0) {
+        return 0.0;
+    }
+    let ds = (sl.y - sl.x) / f32(n);
+    var tau = 0.0;
+    for (var k = 0u; k < n; k = k + 1u) {
+        let p = pos + dir * (sl.x + (f32(k) + 0.5) * ds);
+        tau = tau + low_extinction(p.xy, length(p) - clouds.r_ground) * ds;
+    }
+    return tau;
+}
+
+// march.rs `diffuse_source`: the Eddington solution of the column along
+// the light (per unit irradiance, sr⁻¹).
+fn diffuse_source(tau_l: f32, tau_b: f32, mu0_in: f32, cos_theta: f32) -> f32 {
+    let mu0 = max(mu0_in, 0.05);
+    let g = clouds.diffusion_g;
+    let s = 1.0 - g;
+    let mu1 = s * mu0;
+    let x = s * mu0 * tau_l;
+    let big_x = s * mu0 * (tau_l + tau_b);
+    let beam = exp(-tau_l);
+    let through = exp(-(tau_l + tau_b));
+    let c = 3.0 * mu0 * mu1 + 2.0 * mu0;
+    let a = -(c + through * (2.0 * mu0 - 3.0 * mu0 * mu1)) / (big_x + 4.0 / 3.0);
+    let b = c + 2.0 / 3.0 * a;
+    let u = max(-3.0 * mu0 * mu1 * beam + a * x + b, 0.0);
+    let flux = -mu0 * beam - a / 3.0;
+    return clouds.diffusion_gain * max(u + 3.0 * g * flux * cos_theta, 0.0) / (4.0 * PI);
+}
+
 // march.rs `CloudHit`.
 struct CloudHit {
     radiance: vec3<f32>,
@@ -336,7 +373,7 @@ struct CloudLights {
 // Mirrors the Rust function line for line; re-sync this block when
 // march.rs changes. Field, shell and settings come from `clouds`.
 fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudHit {
-    let n_oct = min(clouds.octave_count, 8u);
+    let n_oct = clamp(clouds.octave_count, 1u, 8u);
     let sl = slab(view, clouds.low_base_km, clouds.low_top_km);
     if (sl.z == 0.0) {
         return clear_hit();
@@ -380,6 +417,11 @@ fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudH
                 f = f + bi * phases[j][o] * exp(-ai * tau);
                 ai = ai * clouds.octave_a;
                 bi = bi * clouds.octave_b;
+            }
+            if (clouds.diffusion_gain > 0.0) {
+                let tau_b = optical_depth_through(pos, -ls.dir[j], clouds.light_steps);
+                let up = pos / length(pos);
+                f = f + diffuse_source(tau, tau_b, dot(up, ls.dir[j]), dot(view, ls.dir[j]));
             }
             src = src + f * ls.rgb[j];
         }
