@@ -48,7 +48,7 @@ use std::time::Instant as Clock;
 use glam::DVec3;
 
 pub use cloud_grid::LowCloudGrid;
-pub use clouds::CloudFrame;
+pub use clouds::{CloudFrame, SeenHit};
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
 pub use luts::{LutOrigin, LutProgress, LutStore};
 pub use moon::MoonFrame;
