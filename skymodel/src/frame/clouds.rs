@@ -50,9 +50,9 @@ use crate::spectrum::{BandWeights, Spectrum};
 use crate::state::SkyState;
 
 /// Julian date (TT) of J2000.0, the wind's epoch.
-const J2000_TT: f64 = 2_451_545.0;
+pub(crate) const J2000_TT: f64 = 2_451_545.0;
 /// Earth radius without an atmosphere model, km.
-const EARTH_RADIUS_KM: f32 = 6360.0;
+pub(crate) const EARTH_RADIUS_KM: f32 = 6360.0;
 /// Below this transmittance change a layer leaves the pixel alone.
 pub const CLEAR: f32 = 1e-5;
 
