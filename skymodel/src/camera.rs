@@ -23,6 +23,8 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::spectrum::{linear_srgb_to_xyz, luminance};
 
+mod rows;
+
 /// Exposure: automatic metering or a fixed EV100.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Exposure {
@@ -321,7 +323,8 @@ fn develop_with(
 }
 
 /// Develops image row `y` ([`develop_pixel`] of each pixel) into `out`
-/// (RGB, 3 bytes a pixel); pixels not `valid` stay as they are.
+/// (RGB, 3 bytes a pixel); pixels not `valid` stay as they are. With night
+/// vision a block of pixels at a time ([`rows`]: the same bytes).
 pub fn develop_row(
     pixels: &[[f32; 3]],
     valid: &[bool],
@@ -330,6 +333,9 @@ pub fn develop_row(
     settings: &CameraSettings,
     out: &mut [u8],
 ) {
+    if settings.night_vision {
+        return rows::develop_row_night(pixels, valid, y, k, settings.dither, out);
+    }
     let table = ToneTable::get();
     for (x, ((p, &v), o)) in pixels
         .iter()
