@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+use super::at_radius::AtRadius;
 use super::lut::{integrate_segment, AtmosphereLuts};
 use super::medium::{cornette_shanks_phase, rayleigh_phase, safe_sqrt};
 use crate::spectrum::Spectrum;
@@ -51,11 +52,11 @@ impl ScatterPhases {
     #[inline]
     fn lit(&self, luts: &AtmosphereLuts, c: &MediumAt, mus: f32) -> Spectrum {
         let ScatterPhases { pr, pm, pm_flat } = *self;
-        let tsun = luts.scattering_sun_transmittance(c.r, mus);
-        let psi = luts.multiscatter_at(c.r, mus);
+        let tsun = c.at.scattering_sun_transmittance(luts, mus);
+        let psi = c.at.multiscatter(luts, mus);
         let mut src = (c.sr * pr + c.sm * pm_flat) * tsun + c.ms * psi;
         if pm > pm_flat {
-            src += c.sm * (pm - pm_flat) * luts.sun_transmittance(c.r, mus);
+            src += c.sm * (pm - pm_flat) * c.at.sun_transmittance(luts, mus);
         }
         src
     }
@@ -67,6 +68,8 @@ impl ScatterPhases {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct MediumAt {
     r: f32,
+    /// The radius-only parts of the Sun's light there.
+    at: AtRadius,
     ext: Spectrum,
     sr: Spectrum,
     sm: Spectrum,
@@ -82,6 +85,7 @@ impl MediumAt {
         let (sr, sm) = m.scattering(dens);
         MediumAt {
             r,
+            at: AtRadius::new(luts, r),
             ext: m.extinction(dens) - fwd * dens.mie,
             sr,
             sm,

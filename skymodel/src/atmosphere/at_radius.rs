@@ -1,0 +1,174 @@
+//! The LUT lookups of the view-ray march ([`super::march`]) with their
+//! radius-only parts computed once per march step: a sky-view row marches
+//! one ray per elevation and looks the Sun's light up at every step for
+//! each of its azimuths, at the same radii. [`AtRadius`] keeps what
+//! [`Medium::sun_visibility`], [`super::lut::transmittance_uv`] and
+//! [`AtmosphereLuts::multiscatter_at`] compute from the radius alone (the
+//! horizon's cosine, the Sun's disk, the transmittance LUT's row, Ψ_ms's
+//! row); the lookups are then the same operations in the same order as
+//! [`AtmosphereLuts::sun_transmittance`],
+//! [`AtmosphereLuts::scattering_sun_transmittance`] and
+//! [`AtmosphereLuts::multiscatter_at`], so they give the same values bit
+//! for bit (test `lookups_at_a_radius_equal_the_luts`).
+
+use super::lut::{tex_from_unit, unit_from_mu_s, AtmosphereLuts, Lut2};
+use super::medium::{safe_sqrt, smoothstep, Medium};
+use crate::spectrum::Spectrum;
+
+/// One axis of a bilinear lookup (`Lut2::corners`): the first texel, the
+/// next one and its weight.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct Tap {
+    i0: usize,
+    i1: usize,
+    f: f32,
+}
+
+impl Tap {
+    /// The tap of texture coordinate `u` on an axis of `n` texels.
+    #[inline]
+    fn new(u: f32, n: usize) -> Tap {
+        let x = (u * n as f32 - 0.5).clamp(0.0, (n - 1) as f32);
+        let i0 = x as usize;
+        Tap {
+            i0,
+            i1: (i0 + 1).min(n - 1),
+            f: x - i0 as f32,
+        }
+    }
+}
+
+impl Lut2<Spectrum> {
+    /// [`Lut2::sample`] at (u, v) with v's tap given.
+    #[inline]
+    fn sample_in_rows(&self, u: f32, row: Tap) -> Spectrum {
+        let x = Tap::new(u, self.w);
+        let (y0, y1) = (row.i0 * self.w, row.i1 * self.w);
+        let a = self.data[y0 + x.i0] * (1.0 - x.f) + self.data[y0 + x.i1] * x.f;
+        let b = self.data[y1 + x.i0] * (1.0 - x.f) + self.data[y1 + x.i1] * x.f;
+        a * (1.0 - row.f) + b * row.f
+    }
+}
+
+/// The radius-only parts of the Sun's transmittance and of Ψ_ms at one
+/// radius (see the module documentation).
+#[derive(Debug, Clone, Copy)]
+pub(super) struct AtRadius {
+    r: f32,
+    /// The horizon's cosine (negative) and the Sun's disk radius there.
+    cos_h: f32,
+    disk: f32,
+    /// The transmittance LUT's distances to the top: least and greatest.
+    d_min: f32,
+    d_max: f32,
+    /// The rows of the transmittance, the δ-scaled transmittance and Ψ_ms.
+    transmittance: Tap,
+    scattering: Tap,
+    multiscatter: Tap,
+}
+
+impl AtRadius {
+    /// The parts at radius `r` (km).
+    #[inline]
+    pub(super) fn new(luts: &AtmosphereLuts, r: f32) -> Self {
+        let m = &luts.medium;
+        // Medium::sun_visibility
+        let sin_h = (m.bottom / r).min(1.0);
+        let cos_h = -safe_sqrt(1.0 - sin_h * sin_h);
+        let disk = m.sun_angular_radius * sin_h;
+        // transmittance_uv
+        let hh = safe_sqrt(m.top * m.top - m.bottom * m.bottom);
+        let rho = safe_sqrt(r * r - m.bottom * m.bottom);
+        let x_r = (rho / hh).clamp(0.0, 1.0);
+        let row = |t: &Lut2<Spectrum>| Tap::new(tex_from_unit(x_r, t.h), t.h);
+        // multiscatter_at (a square table: its width for both axes)
+        let ms = &luts.multiscatter;
+        let v = tex_from_unit(((r - m.bottom) / (m.top - m.bottom)).clamp(0.0, 1.0), ms.w);
+        AtRadius {
+            r,
+            cos_h,
+            disk,
+            d_min: m.top - r,
+            d_max: rho + hh,
+            transmittance: row(&luts.transmittance),
+            scattering: row(&luts.scattering_transmittance),
+            multiscatter: Tap::new(v, ms.h),
+        }
+    }
+
+    /// `lut::sun_transmittance` of table `t` (whose row is `row`) towards
+    /// Sun zenith cosine `mu_s`.
+    #[inline]
+    fn lookup(&self, m: &Medium, t: &Lut2<Spectrum>, row: Tap, mu_s: f32) -> Spectrum {
+        let vis = smoothstep(-self.disk, self.disk, mu_s - self.cos_h);
+        if vis <= 0.0 {
+            return Spectrum::ZERO;
+        }
+        let d = m.distance_to_top(self.r, mu_s);
+        let x_mu = if self.d_max > self.d_min {
+            ((d - self.d_min) / (self.d_max - self.d_min)).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        t.sample_in_rows(tex_from_unit(x_mu, t.w), row) * vis
+    }
+
+    /// [`AtmosphereLuts::sun_transmittance`] at this radius.
+    #[inline]
+    pub(super) fn sun_transmittance(&self, luts: &AtmosphereLuts, mu_s: f32) -> Spectrum {
+        self.lookup(&luts.medium, &luts.transmittance, self.transmittance, mu_s)
+    }
+
+    /// [`AtmosphereLuts::scattering_sun_transmittance`] at this radius.
+    #[inline]
+    pub(super) fn scattering_sun_transmittance(
+        &self,
+        luts: &AtmosphereLuts,
+        mu_s: f32,
+    ) -> Spectrum {
+        let t = &luts.scattering_transmittance;
+        self.lookup(&luts.medium, t, self.scattering, mu_s)
+    }
+
+    /// [`AtmosphereLuts::multiscatter_at`] at this radius.
+    #[inline]
+    pub(super) fn multiscatter(&self, luts: &AtmosphereLuts, mu_s: f32) -> Spectrum {
+        let ms = &luts.multiscatter;
+        ms.sample_in_rows(tex_from_unit(unit_from_mu_s(mu_s), ms.w), self.multiscatter)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::atmosphere::{AtmosphereParams, LutConfig};
+
+    #[test]
+    fn lookups_at_a_radius_equal_the_luts() {
+        // Radii from the ground to above the top, Sun cosines through the
+        // terminator and the whole range: the same bits.
+        let luts = AtmosphereLuts::compute(&AtmosphereParams::default(), &LutConfig::small());
+        let m = &luts.medium;
+        let bits = |s: Spectrum| s.0.map(f32::to_bits);
+        for i in 0..=60 {
+            let r = m.bottom + (m.top - m.bottom) * (i as f32 / 58.0) - 0.01;
+            let at = AtRadius::new(&luts, r);
+            for j in 0..=2000 {
+                let mu = -1.0 + 2.0 * j as f32 / 2000.0;
+                let mu = if j % 2 == 1 { mu * 0.01 } else { mu };
+                let (a, b) = (
+                    at.sun_transmittance(&luts, mu),
+                    luts.sun_transmittance(r, mu),
+                );
+                assert_eq!(bits(a), bits(b), "{r} {mu}");
+                let (a, b) = (
+                    at.scattering_sun_transmittance(&luts, mu),
+                    luts.scattering_sun_transmittance(r, mu),
+                );
+                assert_eq!(bits(a), bits(b), "{r} {mu}");
+                let (a, b) = (at.multiscatter(&luts, mu), luts.multiscatter_at(r, mu));
+                assert_eq!(bits(a), bits(b), "{r} {mu}");
+            }
+        }
+    }
+}
