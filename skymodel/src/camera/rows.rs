@@ -96,7 +96,12 @@ pub(super) fn develop_row_night(
         for (i, p) in px.iter().enumerate() {
             (r[i], g[i], b[i]) = (p[0], p[1], p[2]);
         }
-        night_vision_block(&mut r, &mut g, &mut b);
+        // A block all above the mesopic range (s = 1: daylight) keeps
+        // its colours, as night vision would leave them; NaN is not above.
+        let photopic = (0..px.len()).all(|i| luminance([r[i], g[i], b[i]]) >= 3.17);
+        if !photopic {
+            night_vision_block(&mut r, &mut g, &mut b);
+        }
         for (i, (&v, o)) in val.iter().zip(o.chunks_exact_mut(3)).enumerate() {
             if v {
                 let d = if dither {
