@@ -107,9 +107,16 @@ pub fn meter_ev100(pixels: &[[f32; 3]], valid: &[bool]) -> f64 {
         .map(|(pixels, valid)| {
             let mut sum = 0.0f64;
             let mut n = 0usize;
+            // Runs of one luminance (the ground, a black sky) take the
+            // logarithm once: the same terms, in the same order.
+            let mut last = (f32::NAN.to_bits(), 0.0f64);
             for (p, &v) in pixels.iter().zip(valid) {
                 if v {
-                    sum += (luminance(*p).max(1e-9) as f64).ln();
+                    let y = luminance(*p).max(1e-9);
+                    if y.to_bits() != last.0 {
+                        last = (y.to_bits(), (y as f64).ln());
+                    }
+                    sum += last.1;
                     n += 1;
                 }
             }
