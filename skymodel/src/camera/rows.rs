@@ -93,6 +93,35 @@ pub(super) fn develop_row_night(
         .zip(valid.chunks(BLOCK))
         .zip(out.chunks_mut(3 * BLOCK));
     for (c, ((px, val), o)) in blocks.enumerate() {
+        let dither_at = |i: usize| {
+            if dither {
+                bayer[(c * BLOCK + i) & 7] as usize
+            } else {
+                UNDITHERED
+            }
+        };
+        let first = px[0].map(f32::to_bits);
+        if px.iter().all(|p| p.map(f32::to_bits) == first) {
+            // One colour (the ground): its night vision once and its
+            // bytes once per dither level (a block starts at a multiple
+            // of 8, so its first 8 pixels hold every level).
+            let (nr, ng, nb) = night_vision_lanes(px[0][0], px[0][1], px[0][2]);
+            let mut levels = [[0u8; 3]; 8];
+            for (i, l) in levels.iter_mut().enumerate().take(px.len()) {
+                let d = dither_at(i);
+                *l = [
+                    table.quantize(nr * k, d),
+                    table.quantize(ng * k, d),
+                    table.quantize(nb * k, d),
+                ];
+            }
+            for (i, (&v, o)) in val.iter().zip(o.chunks_exact_mut(3)).enumerate() {
+                if v {
+                    o.copy_from_slice(&levels[i & 7]);
+                }
+            }
+            continue;
+        }
         for (i, p) in px.iter().enumerate() {
             (r[i], g[i], b[i]) = (p[0], p[1], p[2]);
         }
@@ -104,11 +133,7 @@ pub(super) fn develop_row_night(
         }
         for (i, (&v, o)) in val.iter().zip(o.chunks_exact_mut(3)).enumerate() {
             if v {
-                let d = if dither {
-                    bayer[(c * BLOCK + i) & 7] as usize
-                } else {
-                    UNDITHERED
-                };
+                let d = dither_at(i);
                 o[0] = table.quantize(r[i] * k, d);
                 o[1] = table.quantize(g[i] * k, d);
                 o[2] = table.quantize(b[i] * k, d);
@@ -179,7 +204,13 @@ mod tests {
     fn blocks_equal_the_pixel_function() {
         // Rows of 600 pixels (two full blocks and a partial one), some not
         // valid, with and without the dither, at two exposures.
-        let all = colours();
+        // Rows of one colour too (the ground), one with a pixel apart.
+        let mut all = colours();
+        for c in [[0.002f32, 0.003, 0.004], [5.0, 4.0, 3.0], [0.0; 3]] {
+            all.extend(std::iter::repeat_n(c, 1200));
+            let n = all.len();
+            all[n - 700] = [0.1, 0.2, 0.3];
+        }
         let w = 600;
         for dither in [true, false] {
             for ev in [-4.0, 3.0] {
