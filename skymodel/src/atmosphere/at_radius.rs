@@ -9,7 +9,11 @@
 //! [`AtmosphereLuts::sun_transmittance`],
 //! [`AtmosphereLuts::scattering_sun_transmittance`] and
 //! [`AtmosphereLuts::multiscatter_at`], so they give the same values bit
-//! for bit (test `lookups_at_a_radius_equal_the_luts`).
+//! for bit (test `lookups_at_a_radius_equal_the_luts`). Ψ_ms's columns
+//! that are zero in both of a radius's rows (the Earth's shadow) are
+//! known too: a lookup there, or a whole source with the Sun below the
+//! radius's horizon ([`AtRadius::dark`]: the sunlit sky of a night), is
+//! +0 without reading the tables.
 
 use super::lut::{tex_from_unit, unit_from_mu_s, AtmosphereLuts, Lut2};
 use super::medium::{safe_sqrt, smoothstep, Medium};
@@ -65,6 +69,16 @@ pub(super) struct AtRadius {
     transmittance: Tap,
     scattering: Tap,
     multiscatter: Tap,
+    /// The leading columns of Ψ_ms that are zero (every band, +0) in both
+    /// of its rows: the Earth's shadow at low Sun cosines.
+    multiscatter_zeros: usize,
+}
+
+/// The number of leading texels of `row` whose bands are all +0.
+fn zero_prefix(row: &[Spectrum]) -> usize {
+    row.iter()
+        .take_while(|s| s.0.iter().all(|v| v.to_bits() == 0))
+        .count()
 }
 
 impl AtRadius {
@@ -84,6 +98,9 @@ impl AtRadius {
         // multiscatter_at (a square table: its width for both axes)
         let ms = &luts.multiscatter;
         let v = tex_from_unit(((r - m.bottom) / (m.top - m.bottom)).clamp(0.0, 1.0), ms.w);
+        let multiscatter = Tap::new(v, ms.h);
+        let zeros = |i: usize| zero_prefix(&ms.data[i * ms.w..(i + 1) * ms.w]);
+        let multiscatter_zeros = zeros(multiscatter.i0).min(zeros(multiscatter.i1));
         AtRadius {
             r,
             cos_h,
@@ -92,7 +109,8 @@ impl AtRadius {
             d_max: rho + hh,
             transmittance: row(&luts.transmittance),
             scattering: row(&luts.scattering_transmittance),
-            multiscatter: Tap::new(v, ms.h),
+            multiscatter,
+            multiscatter_zeros,
         }
     }
 
@@ -134,7 +152,32 @@ impl AtRadius {
     #[inline]
     pub(super) fn multiscatter(&self, luts: &AtmosphereLuts, mu_s: f32) -> Spectrum {
         let ms = &luts.multiscatter;
-        ms.sample_in_rows(tex_from_unit(unit_from_mu_s(mu_s), ms.w), self.multiscatter)
+        let u = tex_from_unit(unit_from_mu_s(mu_s), ms.w);
+        if self.in_shadow(ms, u) {
+            return Spectrum::ZERO;
+        }
+        ms.sample_in_rows(u, self.multiscatter)
+    }
+
+    /// Whether the Ψ_ms lookup at column coordinate `u` reads only +0
+    /// texels with finite weights: its bilinear sum is then +0 in every
+    /// band (what [`Lut2::sample`] gives), without the reads.
+    #[inline]
+    fn in_shadow(&self, ms: &Lut2<Spectrum>, u: f32) -> bool {
+        let x = Tap::new(u, ms.w);
+        x.i1 < self.multiscatter_zeros && x.f.is_finite() && self.multiscatter.f.is_finite()
+    }
+
+    /// Whether the whole scattering source at Sun zenith cosine `mu_s` is
+    /// zero: the Sun below the horizon of this radius (no beam, direct or
+    /// δ-scaled) and Ψ_ms in its zero columns. [`super::march`]'s source
+    /// is then +0 in every band (each of its terms is a non-negative
+    /// coefficient times +0), which the caller may return at once.
+    #[inline]
+    pub(super) fn dark(&self, luts: &AtmosphereLuts, mu_s: f32) -> bool {
+        let ms = &luts.multiscatter;
+        smoothstep(-self.disk, self.disk, mu_s - self.cos_h) <= 0.0
+            && self.in_shadow(ms, tex_from_unit(unit_from_mu_s(mu_s), ms.w))
     }
 }
 
@@ -150,6 +193,7 @@ mod tests {
         let luts = AtmosphereLuts::compute(&AtmosphereParams::default(), &LutConfig::small());
         let m = &luts.medium;
         let bits = |s: Spectrum| s.0.map(f32::to_bits);
+        let mut dark = 0;
         for i in 0..=60 {
             let r = m.bottom + (m.top - m.bottom) * (i as f32 / 58.0) - 0.01;
             let at = AtRadius::new(&luts, r);
@@ -168,7 +212,18 @@ mod tests {
                 assert_eq!(bits(a), bits(b), "{r} {mu}");
                 let (a, b) = (at.multiscatter(&luts, mu), luts.multiscatter_at(r, mu));
                 assert_eq!(bits(a), bits(b), "{r} {mu}");
+                if at.dark(&luts, mu) {
+                    // No light at all: each lookup of the source is +0.
+                    dark += 1;
+                    let zero = bits(Spectrum::ZERO);
+                    assert_eq!(bits(luts.sun_transmittance(r, mu)), zero, "{r} {mu}");
+                    let t = luts.scattering_sun_transmittance(r, mu);
+                    assert_eq!(bits(t), zero, "{r} {mu}");
+                    assert_eq!(bits(luts.multiscatter_at(r, mu)), zero, "{r} {mu}");
+                }
             }
         }
+        // The night side of the LUTs is dark at some of these points.
+        assert!(dark > 1000, "{dark}");
     }
 }

@@ -52,6 +52,10 @@ impl ScatterPhases {
     #[inline]
     fn lit(&self, luts: &AtmosphereLuts, c: &MediumAt, mus: f32) -> Spectrum {
         let ScatterPhases { pr, pm, pm_flat } = *self;
+        if c.at.dark(luts, mus) {
+            // No beam and no Ψ_ms: every term below is +0.
+            return Spectrum::ZERO;
+        }
         let tsun = c.at.scattering_sun_transmittance(luts, mus);
         let psi = c.at.multiscatter(luts, mus);
         let mut src = (c.sr * pr + c.sm * pm_flat) * tsun + c.ms * psi;
