@@ -119,6 +119,10 @@ impl NightBackground {
         let mut taps = [(0i32, 0i32, 0.0f32, 0.0f32); BLOCK];
         let (mut zl, mut ag) = ([0.0f32; BLOCK], [0.0f32; BLOCK]);
         for (px, ds) in pixels.chunks_mut(BLOCK).zip(dirs.chunks(BLOCK)) {
+            if !ds.iter().flatten().any(|d| d.z >= 0.0) {
+                // All below the horizon (or outside the image): nothing.
+                continue;
+            }
             for (i, d) in ds.iter().enumerate() {
                 let d = d.filter(|d| d.z >= 0.0).unwrap_or(Vec3::Z);
                 let v = self.icrs(d);

@@ -84,6 +84,15 @@ impl SkyLight {
         let mut xyz = [[0.0f32; BLOCK]; 3];
         let mut taps = [[(0i32, 0.0f32); 3]; BLOCK];
         for (px, ds) in pixels.chunks_mut(BLOCK).zip(dirs.chunks(BLOCK)) {
+            if !ds.iter().flatten().any(|d| d.z >= 0.0) {
+                // All below the horizon (or outside the image): the ground.
+                for (p, _) in px.iter_mut().zip(ds).filter(|(_, d)| d.is_some()) {
+                    for k in 0..3 {
+                        p[k] += ground[k];
+                    }
+                }
+                continue;
+            }
             for (i, d) in ds.iter().enumerate() {
                 let d = d.filter(|d| d.z >= 0.0).unwrap_or(Vec3::Z);
                 (xyz[0][i], xyz[1][i], xyz[2][i]) = (d.x, d.y, d.z);
