@@ -42,7 +42,7 @@ else scalar_rgb is used (slower).
 Usage (from the repository root):
 
     /tmp/venv/bin/python tools/cloud_reference.py [--spp 1024] [--shadow-spp 64]
-        [--out tests/fixtures/cloud_ref]
+        [--out tests/fixtures/cloud_ref] [--only sun20_radiance ...]
 
 Mitsuba 3 is BSD-3-Clause (Wenzel Jakob et al.).
 """
@@ -201,6 +201,9 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "tests/fixtures/cloud_ref"))
     ap.add_argument("--spp", type=int, default=1024)
     ap.add_argument("--shadow-spp", type=int, default=64)
+    ap.add_argument("--only", action="append", default=[],
+                    help="render only these images (e.g. sun20_radiance), keeping the others "
+                         "and their entries in references.json")
     args = ap.parse_args()
     os.makedirs(args.out, exist_ok=True)
     with open(args.setup) as f:
@@ -208,18 +211,30 @@ def main():
     variant = setup_mitsuba()
     work = tempfile.mkdtemp(prefix="himmel-cloud-ref-")
     grid_path, grid_sum = export_grid(os.path.abspath(args.setup), work)
-    report = {"mitsuba": mi.__version__, "variant": variant, "spp": args.spp,
-              "shadow_spp": args.shadow_spp, "grid_sum": grid_sum, "images": {}}
+    report = {"mitsuba": mi.__version__, "variant": variant, "grid_sum": grid_sum, "images": {}}
+    old_path = os.path.join(args.out, "references.json")
+    if args.only and os.path.exists(old_path):
+        with open(old_path) as f:
+            old = json.load(f)
+        for name, entry in old.get("images", {}).items():
+            # Entries of the first version carried the spp at the top level.
+            kind_spp = old.get("shadow_spp" if "transmittance" in name else "spp")
+            entry.setdefault("spp", kind_spp)
+            report["images"][name] = entry
     for k, sun in enumerate(setup["suns"]):
-        for kind, scene, spp in [
-            ("radiance", radiance_scene(setup, grid_path, sun), args.spp),
-            ("transmittance", transmittance_scene(setup, grid_path, sun), args.shadow_spp),
+        for kind, make, spp in [
+            ("radiance", radiance_scene, args.spp),
+            ("transmittance", transmittance_scene, args.shadow_spp),
         ]:
+            if args.only and f"{sun['name']}_{kind}" not in args.only:
+                continue
+            scene = make(setup, grid_path, sun)
             t0 = time.time()
             a, b = render_halves(scene, spp, seed=17 + 100 * k)
             name = f"{sun['name']}_{kind}.exr"
             write_exr(os.path.join(args.out, name), 0.5 * (a + b))
-            report["images"][name] = {"noise": noise(a, b), "seconds": time.time() - t0}
+            report["images"][name] = {"spp": spp, "noise": noise(a, b),
+                                      "seconds": time.time() - t0}
             print(name, report["images"][name], flush=True)
     with open(os.path.join(args.out, "references.json"), "w") as f:
         json.dump(report, f, indent=2)

@@ -22,7 +22,7 @@ use std::time::Instant as Clock;
 use glam::Vec3;
 use himmel_skymodel::atmosphere::AtmosphereLuts;
 use himmel_skymodel::frame::{
-    CloudFrame, CoronaFrame, NightFrame, PixelDirections, SkyLight, TextureFrame,
+    CloudFrame, CoronaFrame, LowCloudGrid, NightFrame, PixelDirections, SkyLight, TextureFrame,
 };
 use rayon::prelude::*;
 
@@ -75,8 +75,9 @@ pub enum PixelPass<'a> {
     Texture(&'a TextureFrame),
     /// The cloud layers over what lies behind them
     /// ([`CloudFrame::composite`]: the cloud's radiance with the air in
-    /// front of it, what lies behind dimmed by the layers' transmittance).
-    Clouds(&'a CloudFrame),
+    /// front of it, what lies behind dimmed by the layers' transmittance),
+    /// the low layer from its amortised grid when there is one.
+    Clouds(&'a CloudFrame, Option<&'a LowCloudGrid>),
 }
 
 impl PixelPass<'_> {
@@ -88,7 +89,7 @@ impl PixelPass<'_> {
             | PixelPass::Sun(_)
             | PixelPass::Corona { .. }
             | PixelPass::Milkyway(_) => true,
-            PixelPass::Moon(_) | PixelPass::Texture(_) | PixelPass::Clouds(_) => false,
+            PixelPass::Moon(_) | PixelPass::Texture(_) | PixelPass::Clouds(..) => false,
         }
     }
 
@@ -103,10 +104,18 @@ impl PixelPass<'_> {
             PixelPass::Moon(m) => m.band(y0, pixels, dirs),
             PixelPass::Milkyway(n) => crate::night_pass::milkyway_band(n, pixels, dirs),
             PixelPass::Texture(t) => crate::texture_pass::band(pixels, dirs, t),
-            PixelPass::Clouds(c) => {
+            PixelPass::Clouds(c, None) => {
                 for (p, d) in pixels.iter_mut().zip(dirs) {
                     if let Some(d) = d {
                         *p = c.composite(*d, *p);
+                    }
+                }
+            }
+            PixelPass::Clouds(c, Some(grid)) => {
+                for (k, (p, d)) in pixels.iter_mut().zip(dirs).enumerate() {
+                    if let Some(d) = d {
+                        let low = grid.hit(c, k % w, y0 + k / w, *d);
+                        *p = c.composite_with(*d, *p, low);
                     }
                 }
             }

@@ -27,7 +27,8 @@ use std::time::Instant as Clock;
 use glam::Vec3;
 use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, LutConfig};
 use himmel_skymodel::frame::{
-    CpuSkyViews, FramePlan, LutOrigin, LutProgress, LutStore, PixelDirections, SkyLight,
+    CpuSkyViews, FramePlan, LowCloudGrid, LutOrigin, LutProgress, LutStore, PixelDirections,
+    SkyLight,
 };
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
 use himmel_skymodel::{Effect, Scene, SkyState};
@@ -195,6 +196,7 @@ fn execute(
     let (w, h) = cam.image_size();
     let (w, h) = (w as usize, h as usize);
     let (luts, r0) = (plan.luts.as_deref(), plan.observer_radius_km);
+    let cloud_grid = std::cell::OnceCell::new();
     let mut runner = Runner {
         directions: PixelDirections::new(cam),
         run: Vec::new(),
@@ -250,7 +252,17 @@ fn execute(
             Effect::Texture => {
                 run.extend(plan.texture.as_ref().map(|t| (i, PixelPass::Texture(t))))
             }
-            Effect::Clouds => run.extend(plan.clouds.as_ref().map(|c| (i, PixelPass::Clouds(c)))),
+            Effect::Clouds => {
+                if let Some(c) = &plan.clouds {
+                    // Amortised marching: the low layer's grid first.
+                    let grid = (c.low.is_some() && c.march_stride > 1).then(|| {
+                        &*cloud_grid.get_or_init(|| {
+                            LowCloudGrid::build(c, &runner.directions, c.march_stride as usize)
+                        })
+                    });
+                    runner.run.push((i, PixelPass::Clouds(c, grid)));
+                }
+            }
             Effect::Stars | Effect::Planets => {
                 if let Some(n) = &plan.night {
                     let sources = if planned.effect == Effect::Stars {

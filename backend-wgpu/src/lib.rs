@@ -26,7 +26,9 @@
 //! * [`passes::atmosphere`], [`passes::sun`], [`passes::moon`] (disk and
 //!   eclipse corona), [`passes::milkyway`], [`passes::points`] (stars and
 //!   planets as tiles or instanced quads, [`PointMethod`]),
-//!   [`passes::texture`] (texture-mapped skies), [`passes::store`].
+//!   [`passes::texture`] (texture-mapped skies), [`passes::clouds`] (the
+//!   low and high cloud layers over what lies behind them),
+//!   [`passes::store`].
 //!
 //! Frames larger than the adapter's storage-buffer limit render in bands of
 //! rows ([`frame::FrameLayout`]). Per-pass times come from timestamp
@@ -75,6 +77,7 @@ struct Passes {
     points: passes::points::PointsPass,
     store: passes::store::StorePass,
     texture: passes::texture::TexturePass,
+    clouds: passes::clouds::CloudsPass,
     /// The LUT compute passes, compiled on first use.
     luts: Option<passes::luts::LutPipelines>,
 }
@@ -130,6 +133,7 @@ impl WgpuRenderer {
             points: passes::points::PointsPass::new(&gpu, &sky),
             store: passes::store::StorePass::new(&gpu, &sky),
             texture: passes::texture::TexturePass::new(&gpu, &sky),
+            clouds: passes::clouds::CloudsPass::new(&gpu, &sky),
             luts: None,
             sky,
         };
@@ -527,6 +531,11 @@ impl WgpuRenderer {
                 Effect::Texture => {
                     if let Some(t) = p.texture.prepare(gpu, plan)? {
                         add(Box::new(t));
+                    }
+                }
+                Effect::Clouds => {
+                    if let Some(c) = p.clouds.prepare(gpu, &mut self.gpu_luts, plan)? {
+                        add(Box::new(c));
                     }
                 }
                 // The world and its shadows are drawn after the sky

@@ -85,7 +85,7 @@ pub struct FrameUniforms {
     pub band_rows: u32,
 }
 
-/// Mirror of WGSL `struct Atmo` (src/shaders/skyview.wgsl): the medium,
+/// Mirror of WGSL `struct Atmo` (src/shaders/atmo.wgsl): the medium,
 /// band weights and sky-view geometry of the GPU sky-view LUT. Spectra
 /// (10 bands) are three vec4 band groups, the last two lanes zero. 480 bytes.
 #[repr(C)]
@@ -449,9 +449,12 @@ pub const QUADS_WGSL: &str = concat!(
 );
 
 /// The WGSL source of the sky-view LUT passes: `skyview.wgsl` followed by
-/// the medium functions it shares with the LUT passes (`medium.wgsl`).
+/// the atmosphere's uniforms and LUT lookups it shares with the clouds pass
+/// (`atmo.wgsl`) and the medium functions it shares with the LUT passes
+/// (`medium.wgsl`).
 pub const SKYVIEW_WGSL: &str = concat!(
     include_str!("shaders/skyview.wgsl"),
+    include_str!("shaders/atmo.wgsl"),
     include_str!("shaders/medium.wgsl"),
     include_str!("shaders/bilinear.wgsl")
 );

@@ -608,7 +608,8 @@ fn wgpu_culls_night_passes_at_noon_and_renders_the_night_with_the_moon() {
 }
 
 /// The cloud flags: a bad type or coverage exits 2 naming the flag; a
-/// good one runs the clouds pass (`--stats`); the template shows the keys.
+/// good one runs the clouds pass on either backend (`--stats`: ran, with
+/// its time); the template shows the keys.
 #[test]
 fn cloud_flags_and_keys() {
     let out = tmp("clouds.exr");
@@ -625,33 +626,42 @@ fn cloud_flags_and_keys() {
         "{err}"
     );
     let stats = tmp("clouds_stats.json");
-    let (code, _, err) = render(&[
-        "--clouds-type",
-        "stratocumulus",
-        "--cirrus-coverage",
-        "0.4",
-        "--effects",
-        "atmosphere,clouds",
-        "--width",
-        "24",
-        "--height",
-        "24",
-        "--stats",
-        &stats,
-        "--output",
-        &out,
-    ]);
-    assert_eq!(code, 0, "{err}");
-    let s: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
-    let clouds = s["passes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|p| p["name"] == "clouds")
-        .unwrap()
-        .clone();
-    assert_eq!(clouds["ran"], true, "{clouds}");
+    for backend in ["cpu", "wgpu"] {
+        let (code, _, err) = render(&[
+            "--backend",
+            backend,
+            "--clouds-type",
+            "stratocumulus",
+            "--cirrus-coverage",
+            "0.4",
+            "--effects",
+            "atmosphere,clouds",
+            "--width",
+            "24",
+            "--height",
+            "24",
+            "--stats",
+            &stats,
+            "--output",
+            &out,
+        ]);
+        assert_eq!(code, 0, "{backend}: {err}");
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        assert_eq!(s["backend"], backend);
+        let clouds = s["passes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["name"] == "clouds")
+            .unwrap()
+            .clone();
+        assert_eq!(clouds["ran"], true, "{backend}: {clouds}");
+        assert!(
+            clouds["ms"].as_f64().is_some_and(|t| t >= 0.0),
+            "{backend}: {clouds}"
+        );
+    }
     let (code, t, _) = himmel(&["scene-template"]);
     assert_eq!(code, 0);
     let v: serde_json::Value = serde_json::from_str(&t).unwrap();

@@ -6,7 +6,9 @@ use serde::{Deserialize, Serialize};
 
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
-pub use crate::cloud_spec::{CloudsSpec, HighCloudSpec, LowCloudKind, LowCloudSpec};
+pub use crate::cloud_spec::{
+    CloudScattering, CloudsSpec, HighCloudSpec, LowCloudKind, LowCloudSpec,
+};
 pub use crate::overlay_spec::OverlaySpec;
 use crate::projection::Camera;
 use crate::scene_error::check_range;

@@ -2,7 +2,8 @@
 //! references of `tests/fixtures/cloud_ref/` (`tools/cloud_reference.py`:
 //! Himmel's own density field exported on a voxel grid, Mitsuba's `volpath`
 //! with every order of scattering) beside Himmel's march of the same field
-//! ([`march_low`]: self-shadowing light march and Wrenninge's octaves), in
+//! ([`march_low`]: self-shadowing light march and each multiple-scattering
+//! model, the default diffusion solution and Wrenninge's octaves), in
 //! the isolated configuration: a directional Sun of irradiance 1, no
 //! atmosphere, no sky light, a black world.
 //!
@@ -24,7 +25,8 @@ mod world_common;
 
 use glam::Vec3;
 use himmel_skymodel::clouds::{
-    march_low, optical_depth_ray, CloudLight, LowField, MarchSettings, Shell, OCTAVES,
+    march_low, optical_depth_ray, CloudLight, LowField, MarchSettings, MultipleScattering, Shell,
+    DIFFUSION, OCTAVES,
 };
 use himmel_skymodel::scene::LowCloudSpec;
 use serde_json::Value;
@@ -67,7 +69,7 @@ fn setup() -> Setup {
         settings: MarchSettings {
             steps: spec.steps,
             light_steps: spec.light_steps,
-            octaves: OCTAVES,
+            scattering: MultipleScattering::Diffusion(DIFFUSION),
         },
         spec,
         shell: Shell {
@@ -121,7 +123,7 @@ fn basis(forward: Vec3, up_hint: Vec3) -> (Vec3, Vec3) {
 }
 
 /// Himmel's radiance and transmittance through the zenith camera.
-fn himmel_radiance(s: &Setup, sun: Vec3) -> (RgbImage, Vec<f32>) {
+fn himmel_radiance(s: &Setup, sun: Vec3, settings: &MarchSettings) -> (RgbImage, Vec<f32>) {
     let cam = &s.v["camera"];
     let (w, h) = (
         cam["width"].as_u64().unwrap() as usize,
@@ -137,15 +139,7 @@ fn himmel_radiance(s: &Setup, sun: Vec3) -> (RgbImage, Vec<f32>) {
     let view = |x: f32, y: f32| (Vec3::Z + right * (x * tan * aspect) + up * (y * tan)).normalize();
     let img = RgbImage::from_fn(w, h, |i, j| {
         box_filter(i, j, w, h, |x, y| {
-            march_low(
-                &s.field,
-                &s.shell,
-                view(x, y),
-                &lights,
-                [0.0; 3],
-                &s.settings,
-            )
-            .radiance
+            march_low(&s.field, &s.shell, view(x, y), &lights, [0.0; 3], settings).radiance
         })
     });
     let origin = Vec3::new(0.0, 0.0, R_GROUND);
@@ -193,14 +187,18 @@ fn references_were_made_from_this_field() {
     );
 }
 
-/// The radiance bound of each Sun: the goal is 15 %; this version
-/// achieves 20.8 % (Sun at 60°) and 32.6 % (Sun at 20°): Wrenninge's
-/// octaves light the cloud's base too little far from the Sun and too
-/// much on the Sun's side (README, Clouds). A change that makes either
-/// worse fails.
-fn radiance_bound(sun: &str) -> f64 {
-    match sun {
-        "sun60" => 0.22,
+/// The radiance bound of each model and Sun. The goal is 15 %.
+/// The diffusion model (the default) achieves 15.2 % (Sun at 60°) and
+/// 26.3 % (Sun at 20°): the column along the light cannot see the flanks
+/// a low Sun lights from the side (the corners of the image away from
+/// the Sun are 30 % too dark). Wrenninge's octaves achieve 20.8 % and
+/// 32.6 %: blind to the Sun's altitude and to how much cloud surrounds a
+/// point. A change that makes any figure worse fails.
+fn radiance_bound(model: &str, sun: &str) -> f64 {
+    match (model, sun) {
+        ("diffusion", "sun60") => 0.16,
+        ("diffusion", _) => 0.275,
+        (_, "sun60") => 0.22,
         _ => 0.34,
     }
 }
@@ -211,33 +209,41 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
     let mut failures = Vec::new();
     for sun in s.v["suns"].as_array().unwrap() {
         let name = sun["name"].as_str().unwrap();
-        let bound = radiance_bound(name);
         let l = towards(
             sun["alt_deg"].as_f64().unwrap(),
             sun["az_deg"].as_f64().unwrap(),
         );
         let reference = read_exr(dir().join(format!("{name}_radiance.exr"))).unwrap();
-        let (img, trans) = himmel_radiance(&s, l);
-        let cloud: Vec<bool> = trans.iter().map(|&t| t < 0.9).collect();
-        let n = cloud.iter().filter(|&&c| c).count();
-        let weighted = mean_relative_error(&img, &reference, &cloud);
-        let per_pixel = pixel_relative_error(&img, &reference, &cloud);
-        let sums = img
-            .luminance()
-            .iter()
-            .zip(reference.luminance())
-            .zip(&cloud)
-            .filter(|(_, c)| **c)
-            .fold((0.0, 0.0), |(a, b), ((x, y), _)| (a + x, b + y));
-        println!(
-            "{name}: radiance over {n} cloud pixels: Σ|ΔY|/ΣY {:.1} % (bound {:.0} %), mean |ΔY|/Y {:.1} %, ΣY_himmel/ΣY_mitsuba {:.3}",
-            weighted * 100.0,
-            bound * 100.0,
-            per_pixel * 100.0,
-            sums.0 / sums.1
-        );
-        if weighted.is_nan() || weighted > bound {
-            failures.push(format!("{name} radiance {:.1} %", weighted * 100.0));
+        let mut n = 0;
+        for (model, scattering) in [
+            ("diffusion", MultipleScattering::Diffusion(DIFFUSION)),
+            ("octaves", MultipleScattering::Octaves(OCTAVES)),
+        ] {
+            let bound = radiance_bound(model, name);
+            let mut s_model = s.settings;
+            s_model.scattering = scattering;
+            let (img, trans) = himmel_radiance(&s, l, &s_model);
+            let cloud: Vec<bool> = trans.iter().map(|&t| t < 0.9).collect();
+            n = cloud.iter().filter(|&&c| c).count();
+            let weighted = mean_relative_error(&img, &reference, &cloud);
+            let per_pixel = pixel_relative_error(&img, &reference, &cloud);
+            let sums = img
+                .luminance()
+                .iter()
+                .zip(reference.luminance())
+                .zip(&cloud)
+                .filter(|(_, c)| **c)
+                .fold((0.0, 0.0), |(a, b), ((x, y), _)| (a + x, b + y));
+            println!(
+                "{name} {model}: radiance over {n} cloud pixels: Σ|ΔY|/ΣY {:.1} % (bound {:.1} %), mean |ΔY|/Y {:.1} %, ΣY_himmel/ΣY_mitsuba {:.3}",
+                weighted * 100.0,
+                bound * 100.0,
+                per_pixel * 100.0,
+                sums.0 / sums.1
+            );
+            if weighted.is_nan() || weighted > bound {
+                failures.push(format!("{name} {model} radiance {:.1} %", weighted * 100.0));
+            }
         }
         let t_ref = read_exr(dir().join(format!("{name}_transmittance.exr"))).unwrap();
         let t_him = himmel_transmittance(&s, l);

@@ -2,6 +2,7 @@
 //! under the contract of [`crate::pass`].
 
 pub mod atmosphere;
+pub mod clouds;
 pub mod lighting;
 pub mod luts;
 pub mod milkyway;

@@ -1,7 +1,8 @@
 // Himmel wgpu backend: what every image pass shares (prepended to each
 // pass's file: atmosphere.wgsl, sun.wgsl, milkyway.wgsl, points.wgsl,
 // store.wgsl, moon.wgsl, and points.wgsl + quads.wgsl; src/uniforms.rs
-// builds one module per pass).
+// builds one module per pass; texture.wgsl and clouds.wgsl are built
+// beside their passes, passes/texture.rs and passes/clouds.rs).
 //
 // Every pass adds its radiance (linear sRGB, cd/m²) into `accum`, one
 // vec4 per pixel of the image (a cube map is the 6H×H strip of

@@ -61,6 +61,8 @@ struct LutParams {
 // lut.rs `sphere_directions` (xyz; w unused), computed on the CPU
 @group(0) @binding(4) var<storage, read> dirs: array<vec4<f32>>;
 
+const PI: f32 = 3.14159265358979;
+
 // Zero for the two padding lanes of band group 2.
 const LANES: array<vec4<f32>, 3> = array<vec4<f32>, 3>(
     vec4<f32>(1.0),

@@ -1,9 +1,7 @@
-// Medium geometry and phase functions shared by luts.wgsl and skyview.wgsl
-// (appended to each; both declare their uniform as `atmo` with the fields
-// `bottom_radius`, `top_radius` and `sun_angular_radius`): ports of
-// medium.rs and lut.rs, as the CPU computes them.
-
-const PI: f32 = 3.14159265358979;
+// Medium geometry and phase functions shared by luts.wgsl, skyview.wgsl and
+// clouds.wgsl (appended to each; each declares its uniform as `atmo` with the
+// fields `bottom_radius`, `top_radius` and `sun_angular_radius`, and the
+// constant PI): ports of medium.rs and lut.rs, as the CPU computes them.
 
 fn safe_sqrt(x: f32) -> f32 {
     return sqrt(max(x, 0.0));

@@ -41,12 +41,32 @@ pub const NOISE_CONTRAST: f32 = 2.0;
 /// height gradients: a fast rise above the base, a slower fall below the
 /// kind's top).
 pub fn profile(kind: LowCloudKind, hf: f32) -> f32 {
-    let (rise, fall0, fall1) = match kind {
-        LowCloudKind::Cumulus => (0.1, 0.6, 1.0),
-        LowCloudKind::Stratocumulus => (0.15, 0.35, 0.7),
-        LowCloudKind::Stratus => (0.05, 0.1, 0.2),
-    };
+    let ProfileShape { rise, fall0, fall1 } = ProfileShape::of(kind);
     smoothstep(0.0, rise, hf) * (1.0 - smoothstep(fall0, fall1, hf))
+}
+
+/// The height fractions that shape a kind's [`profile`]: the density rises
+/// over [0, `rise`] and falls over [`fall0`, `fall1`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProfileShape {
+    /// End of the rise above the base.
+    pub rise: f32,
+    /// Start of the fall towards the top.
+    pub fall0: f32,
+    /// End of the fall (no cloud above).
+    pub fall1: f32,
+}
+
+impl ProfileShape {
+    /// The shape of `kind` (Schneider & Vos 2015's gradients).
+    pub fn of(kind: LowCloudKind) -> Self {
+        let (rise, fall0, fall1) = match kind {
+            LowCloudKind::Cumulus => (0.1, 0.6, 1.0),
+            LowCloudKind::Stratocumulus => (0.15, 0.35, 0.7),
+            LowCloudKind::Stratus => (0.05, 0.1, 0.2),
+        };
+        ProfileShape { rise, fall0, fall1 }
+    }
 }
 
 /// The fBm's contrast stretch around 0.5, clamped to [0, 1].

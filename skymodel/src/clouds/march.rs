@@ -18,18 +18,26 @@
 //! L += T · S · (1 − e^{−σΔt}),   T ← T · e^{−σΔt},
 //! ```
 //!
-//! and S sums, for each light of irradiance E in direction l, Wrenninge's
-//! (2013) octaves of multiple scattering,
+//! and S sums, for each light of irradiance E in direction l, the single
+//! scattering p(θ) E e^{−τ_l} (τ_l the optical depth towards the light, a
+//! short march of `light_steps` steps to the top of the layer), the light
+//! scattered more than once ([`MultipleScattering`]) and the sky's ambient
+//! light. Two models of the multiple scattering:
 //!
-//! ```text
-//! S = Σ_{i<N} bⁱ · p(cos θ; cⁱ g) · E · e^{−aⁱ τ_l}  +  ambient,
-//! ```
+//! * [`MultipleScattering::Diffusion`] (the default): the column through
+//!   the point along the light is taken as a plane-parallel slab lit at
+//!   the light's zenith angle, and the diffuse light in it is the
+//!   Eddington (diffusion) solution of that slab ([`diffuse_source`]); it
+//!   needs a second short march, away from the light (τ_b), and makes the
+//!   thick cloud's base as bright as a path tracer finds it and the thin
+//!   edges no brighter than their single scattering;
+//! * [`MultipleScattering::Octaves`]: Wrenninge's (2013) octaves
+//!   (Hillaire 2016), `S = Σ_{i<N} bⁱ · p(cos θ; cⁱ g) · E · e^{−aⁱ τ_l}`,
+//!   one light march, cheaper, but blind to the Sun's altitude and to how
+//!   much cloud surrounds the point (the thin edges too bright, a low Sun
+//!   too bright; `tests/tests/cloud_mitsuba.rs` measures both).
 //!
-//! where τ_l is the optical depth towards the light (a short march of
-//! `light_steps` steps to the top of the layer), a < 1 lets later octaves
-//! see a thinner cloud, b < 1 weights them down and c < 1 makes their
-//! phase function more isotropic. a ≤ b keeps the sum energy-conserving
-//! (Hillaire 2016). The phase function is a two-lobe Henyey–Greenstein
+//! The phase function is a two-lobe Henyey–Greenstein
 //! mix ([`CloudPhase`]), a forward lobe for the droplets' diffraction peak
 //! and a weak backward lobe (glory side).
 
@@ -91,6 +99,78 @@ pub const OCTAVES: Octaves = Octaves {
     n: 6,
 };
 
+/// The diffusion model of the multiple scattering ([`diffuse_source`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Diffusion {
+    /// Mean cosine of the phase function (the transport scaling 1 − g).
+    pub g: f32,
+    /// Scale of the diffuse source: the independent column underestimates
+    /// the light a 3D cloud lets through its sides and thin parts; 1.2 is
+    /// what matches Mitsuba's path-traced cumulus at Sun altitudes of 20°
+    /// and 60° (`tests/tests/cloud_mitsuba.rs`).
+    pub gain: f32,
+}
+
+/// The diffusion model both backends use by default.
+pub const DIFFUSION: Diffusion = Diffusion {
+    g: CLOUD_PHASE.w_forward * CLOUD_PHASE.g_forward
+        + (1.0 - CLOUD_PHASE.w_forward) * CLOUD_PHASE.g_back,
+    gain: 1.2,
+};
+
+/// How the light scattered more than once is approximated.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MultipleScattering {
+    /// Wrenninge's octaves: one light march per step.
+    Octaves(Octaves),
+    /// The slab diffusion solution: two light marches per step.
+    Diffusion(Diffusion),
+}
+
+/// The multiple-scattering model of the frame's cloud pass.
+pub const MULTIPLE_SCATTERING: MultipleScattering = MultipleScattering::Diffusion(DIFFUSION);
+
+/// The diffuse (scattered at least once) light's source at a point of a
+/// cloud, per unit irradiance of the light, sr⁻¹: the column through the
+/// point along the light, optical depth `tau_l` towards the light and
+/// `tau_b` away from it, taken as a plane-parallel slab whose light falls
+/// at the zenith cosine `mu0` (its vertical optical depth the column's
+/// times μ₀), conservative, scaled to isotropic scattering by the
+/// transport depth x = (1 − g) μ₀ τ. The Eddington equation of the
+/// diffuse fluence U with the direct beam as its source and Marshak's
+/// conditions at both faces,
+///
+/// ```text
+/// U'' = −3 k e^{−x/μ₁},  U − ⅔U' = 0 (x = 0),  U + ⅔U' = 0 (x = X),
+/// μ₁ = (1 − g) μ₀,  k μ₁ = μ₀,
+/// U(x) = −3 μ₀ μ₁ e^{−τ_l} + A x + B,
+/// A = −(3 μ₀ μ₁ + 2 μ₀ + e^{−(τ_l+τ_b)} (2 μ₀ − 3 μ₀ μ₁)) / (X + 4/3),
+/// B = 3 μ₀ μ₁ + 2 μ₀ + ⅔ A,
+/// ```
+///
+/// gives the fluence and the net diffuse flux F = −U'/3 = −μ₀ e^{−τ_l} − A/3
+/// along the light's travel; the light they scatter towards the viewer is
+/// (U + 3 g F cos θ) / 4π, θ the angle between the view and the light
+/// (the flux taken along the light: a cloud's sunlit flank reflects, its
+/// base seen towards the Sun transmits forwards). It vanishes with the
+/// cloud (U, F → 0 as τ_l, τ_b → 0: a thin wisp scatters once) and grows
+/// linearly with depth as diffusion does.
+pub fn diffuse_source(d: &Diffusion, tau_l: f32, tau_b: f32, mu0: f32, cos_theta: f32) -> f32 {
+    let mu0 = mu0.max(0.05);
+    let s = 1.0 - d.g;
+    let mu1 = s * mu0;
+    let x = s * mu0 * tau_l;
+    let big_x = s * mu0 * (tau_l + tau_b);
+    let beam = (-tau_l).exp();
+    let through = (-(tau_l + tau_b)).exp();
+    let c = 3.0 * mu0 * mu1 + 2.0 * mu0;
+    let a = -(c + through * (2.0 * mu0 - 3.0 * mu0 * mu1)) / (big_x + 4.0 / 3.0);
+    let b = c + 2.0 / 3.0 * a;
+    let u = (-3.0 * mu0 * mu1 * beam + a * x + b).max(0.0);
+    let flux = -mu0 * beam - a / 3.0;
+    d.gain * (u + 3.0 * d.g * flux * cos_theta).max(0.0) / (4.0 * std::f32::consts::PI)
+}
+
 /// How finely the low layer is marched and how its multiple scattering is
 /// approximated.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -99,8 +179,8 @@ pub struct MarchSettings {
     pub steps: u32,
     /// Steps towards each light (`clouds.low.light_steps`).
     pub light_steps: u32,
-    /// The multiple-scattering octaves ([`OCTAVES`]).
-    pub octaves: Octaves,
+    /// The multiple-scattering model ([`MULTIPLE_SCATTERING`]).
+    pub scattering: MultipleScattering,
 }
 
 /// A light at the cloud: unit ENU direction towards it and its
@@ -141,11 +221,14 @@ impl Shell {
     }
 
     /// The same from radius `r` at zenith cosine `mu`; the ground hides
-    /// what lies beyond it.
+    /// what lies beyond it. A downward ray that meets the ground sphere
+    /// meets it ahead (at g₀ ≥ 0; from the ground itself g₀ is 0 up to
+    /// rounding, whose sign must not decide whether the cloud shows below
+    /// the horizon).
     pub fn slab_from(&self, r: f32, mu: f32, lo_km: f32, hi_km: f32) -> Option<(f32, f32)> {
         let (start, end) = slab_interval(r, mu, self.r_ground + lo_km, self.r_ground + hi_km)?;
         let end = match inside_sphere(r, mu, self.r_ground) {
-            Some((g0, _)) if g0 >= 0.0 => end.min(g0),
+            Some((g0, _)) if mu < 0.0 => end.min(g0.max(0.0)),
             _ => end,
         };
         (end > start).then_some((start, end))
@@ -251,9 +334,13 @@ pub fn march_low(
     let MarchSettings {
         steps,
         light_steps,
-        octaves,
+        scattering,
     } = *settings;
-    let n_oct = octaves.n.min(8) as usize;
+    let octaves = match scattering {
+        MultipleScattering::Octaves(o) => o,
+        MultipleScattering::Diffusion(_) => Octaves { n: 1, ..OCTAVES },
+    };
+    let n_oct = octaves.n.clamp(1, 8) as usize;
     let Some((t0, t1)) = shell.slab(view, field.base_km, field.top_km) else {
         return CloudHit::CLEAR;
     };
@@ -295,6 +382,11 @@ pub fn march_low(
                 ai *= octaves.a;
                 bi *= octaves.b;
             }
+            if let MultipleScattering::Diffusion(d) = scattering {
+                let tau_b = optical_depth_through(field, shell, pos, -lt.dir, light_steps);
+                let up = pos / pos.length();
+                f += diffuse_source(&d, tau, tau_b, up.dot(lt.dir), view.dot(lt.dir));
+            }
             for c in 0..3 {
                 src[c] += f * lt.irradiance_rgb[c];
             }
@@ -318,6 +410,23 @@ pub fn march_low(
         transmittance: tr,
         distance_km: if ext > 0.0 { dist / ext } else { t0 },
     }
+}
+
+/// Optical depth of the low layer from `pos` (inside or outside it) along
+/// the unit direction `dir` to where the ray leaves the layer (or meets
+/// the ground), marched in `n` equal steps.
+pub fn optical_depth_through(field: &LowField, shell: &Shell, pos: Vec3, dir: Vec3, n: u32) -> f32 {
+    let r = pos.length();
+    let Some((t0, t1)) = shell.slab_from(r, pos.dot(dir) / r, field.base_km, field.top_km) else {
+        return 0.0;
+    };
+    let ds = (t1 - t0) / n as f32;
+    let mut tau = 0.0;
+    for k in 0..n {
+        let p = pos + dir * (t0 + (k as f32 + 0.5) * ds);
+        tau += field.extinction(Vec2::new(p.x, p.y), p.length() - shell.r_ground) * ds;
+    }
+    tau
 }
 
 /// Optical depth of the low layer along the whole ray from the observer

@@ -24,8 +24,9 @@ pub mod noise;
 
 pub use field::{HighField, LowField};
 pub use march::{
-    march_low, optical_depth_low, optical_depth_ray, optical_depth_to_light, shade_high, CloudHit,
-    CloudLight, CloudPhase, MarchSettings, Octaves, Shell, CLOUD_PHASE, OCTAVES,
+    diffuse_source, march_low, optical_depth_low, optical_depth_ray, optical_depth_through,
+    optical_depth_to_light, shade_high, CloudHit, CloudLight, CloudPhase, Diffusion, MarchSettings,
+    MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION, MULTIPLE_SCATTERING, OCTAVES,
 };
 
 #[cfg(test)]
@@ -40,7 +41,7 @@ mod tests {
     const SETTINGS: MarchSettings = MarchSettings {
         steps: 64,
         light_steps: 6,
-        octaves: OCTAVES,
+        scattering: MULTIPLE_SCATTERING,
     };
 
     fn shell() -> Shell {
@@ -113,6 +114,36 @@ mod tests {
             seen += (h1.transmittance < 0.9) as u32;
         }
         assert!(seen > 5, "the rays should meet clouds: {seen}");
+    }
+
+    /// The diffuse source vanishes with the cloud (a thin wisp scatters
+    /// once), grows into a thick cloud and fades towards the face away
+    /// from the light, and stays finite and non-negative for every light
+    /// angle and depth.
+    #[test]
+    fn diffuse_source_limits() {
+        let d = DIFFUSION;
+        assert!(diffuse_source(&d, 1e-4, 1e-4, 0.8, 0.5) < 1e-3);
+        assert!(diffuse_source(&d, 0.0, 0.0, 0.8, 0.5) < 1e-6);
+        // In a thick slab lit from above, the fluence falls from the lit
+        // face's neighbourhood to the far face.
+        let total = 40.0;
+        let near = diffuse_source(&d, 2.0, total - 2.0, 1.0, 0.0);
+        let far = diffuse_source(&d, total - 0.1, 0.1, 1.0, 0.0);
+        assert!(near > 3.0 * far && far > 0.0, "{near} {far}");
+        // Seen towards the light from below, the transmitted light is
+        // brighter than seen away from it (the net flux goes forwards).
+        let fwd = diffuse_source(&d, total - 0.5, 0.5, 1.0, 1.0);
+        let back = diffuse_source(&d, total - 0.5, 0.5, 1.0, -1.0);
+        assert!(fwd > back, "{fwd} {back}");
+        for &mu in &[-0.5f32, 0.0, 1e-6, 0.05, 0.3, 1.0] {
+            for &t in &[0.0f32, 1e-3, 1.0, 30.0, 1e4] {
+                for &c in &[-1.0f32, 0.0, 1.0] {
+                    let v = diffuse_source(&d, t, 0.5 * t, mu, c);
+                    assert!(v.is_finite() && v >= 0.0, "{mu} {t} {c}: {v}");
+                }
+            }
+        }
     }
 
     /// In the thin limit the high layer scatters p(θ) E τ / μ_v and

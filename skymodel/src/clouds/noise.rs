@@ -74,8 +74,9 @@ pub fn value_noise(p: Vec3, period: u32, seed: u32) -> f32 {
 }
 
 /// Offset of octave `k` (lattice units of that octave) so that the
-/// octaves' lattices do not line up at the origin.
-const OCTAVE_SHIFT: Vec3 = Vec3::new(17.31, 5.77, 11.13);
+/// octaves' lattices do not line up at the origin (the wgpu clouds pass
+/// reads it from its uniforms).
+pub const OCTAVE_SHIFT: Vec3 = Vec3::new(17.31, 5.77, 11.13);
 
 /// Fractional Brownian motion of `octaves` value-noise octaves at `p`
 /// (base-octave lattice units), in [0, 1): octave k has frequency 2^k,

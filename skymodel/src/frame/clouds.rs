@@ -40,9 +40,11 @@ use super::lights::AerialPerspective;
 use super::sky_light::SkyInputs;
 use crate::atmosphere::AtmosphereLuts;
 use crate::clouds::{
-    march_low, shade_high, CloudHit, CloudLight, HighField, LowField, MarchSettings, Shell, OCTAVES,
+    march_low, shade_high, CloudHit, CloudLight, HighField, LowField, MarchSettings,
+    MultipleScattering, Shell, DIFFUSION, OCTAVES,
 };
 use crate::moon::lunar_reflectance_spectrum;
+use crate::scene::CloudScattering;
 use crate::scene::Scene;
 use crate::spectrum::{BandWeights, Spectrum};
 use crate::state::SkyState;
@@ -52,7 +54,7 @@ const J2000_TT: f64 = 2_451_545.0;
 /// Earth radius without an atmosphere model, km.
 const EARTH_RADIUS_KM: f32 = 6360.0;
 /// Below this transmittance change a layer leaves the pixel alone.
-const CLEAR: f32 = 1e-5;
+pub const CLEAR: f32 = 1e-5;
 
 /// A light of the frame: unit ENU direction and its spectrum outside the
 /// atmosphere (band transfer factors of the 1 AU solar spectrum).
@@ -73,6 +75,8 @@ pub struct CloudFrame {
     pub shell: Shell,
     /// The low layer's march.
     pub march: MarchSettings,
+    /// Amortised marching: the grid's stride in pixels (1: every pixel).
+    pub march_stride: u32,
     /// The sky's mean downward radiance, linear sRGB, cd/m².
     pub ambient_rgb: [f32; 3],
     lights: Vec<FrameLight>,
@@ -127,14 +131,25 @@ impl CloudFrame {
             march: MarchSettings {
                 steps: c.low.steps,
                 light_steps: c.low.light_steps,
-                octaves: OCTAVES,
+                scattering: match c.low.scattering {
+                    CloudScattering::Diffusion => MultipleScattering::Diffusion(DIFFUSION),
+                    CloudScattering::Octaves => MultipleScattering::Octaves(OCTAVES),
+                },
             },
+            march_stride: c.low.march_stride,
             ambient_rgb,
             lights,
             luts,
             sky_inputs,
             weights: BandWeights::solar(),
         }
+    }
+
+    /// The frame's lights: unit ENU direction and spectrum outside the
+    /// atmosphere (band factors of the 1 AU solar spectrum), the Sun's
+    /// first. [`Self::lights_at`] extinguishes them at the cloud.
+    pub fn light_sources(&self) -> Vec<(Vec3, Spectrum)> {
+        self.lights.iter().map(|l| (l.dir, l.spectrum)).collect()
     }
 
     /// The lights at the point `t` km along `view` (their irradiance after
@@ -185,8 +200,14 @@ impl CloudFrame {
     /// `behind` (the pixel's radiance so far, cd/m²) seen through both
     /// layers along `view`, with the aerial perspective in front of each.
     pub fn composite(&self, view: Vec3, behind: [f32; 3]) -> [f32; 3] {
+        self.composite_with(view, behind, self.low_hit(view))
+    }
+
+    /// [`CloudFrame::composite`] with the low layer's hit along `view`
+    /// given (from an amortised grid, [`super::LowCloudGrid`]).
+    pub fn composite_with(&self, view: Vec3, behind: [f32; 3], low: CloudHit) -> [f32; 3] {
         let mut px = behind;
-        for hit in [self.high_hit(view), self.low_hit(view)] {
+        for hit in [self.high_hit(view), low] {
             if hit.transmittance >= 1.0 - CLEAR {
                 continue;
             }

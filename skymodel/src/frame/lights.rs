@@ -169,6 +169,10 @@ pub fn sky_horizontal_rgb(sky: &SkyLight) -> [f64; 3] {
     e
 }
 
+/// Steps of the aerial perspective's march between two distances
+/// (`atmosphere::aerial_perspective`).
+pub const AERIAL_STEPS: usize = 4;
+
 /// Aerial perspective on a grid over the camera's view: for each of
 /// `dirs` (ENU, unit) and each distance of `distances_m`, the in-scattered
 /// radiance (linear sRGB, cd/m²; the sunlit and the moonlit air) and the
@@ -203,7 +207,7 @@ impl AerialPerspective {
         for &d in dirs {
             let mut rows: Vec<([f32; 3], [f32; 3])> = vec![([0.0; 3], [1.0; 3]); ends.len()];
             for (k, &(light, scale)) in lights.iter().enumerate() {
-                let segs = aerial_perspective(luts, r0, d, light, &ends, 4);
+                let segs = aerial_perspective(luts, r0, d, light, &ends, AERIAL_STEPS);
                 for (row, (l, t)) in rows.iter_mut().zip(segs) {
                     let lr = w.to_rgb(&l);
                     for c in 0..3 {

@@ -31,6 +31,7 @@
 //!   world receives: the Sun and Moon as directional lights after the
 //!   atmosphere, the sky's horizontal illuminance, the aerial perspective.
 
+pub mod cloud_grid;
 pub mod clouds;
 pub mod lights;
 pub mod luts;
@@ -46,6 +47,7 @@ use std::time::Instant as Clock;
 
 use glam::DVec3;
 
+pub use cloud_grid::LowCloudGrid;
 pub use clouds::CloudFrame;
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
 pub use luts::{LutOrigin, LutProgress, LutStore};

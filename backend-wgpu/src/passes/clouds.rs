@@ -1,0 +1,489 @@
+//! The clouds pass (`shaders/clouds.wgsl`, its own bind group 1: the
+//! [`CloudUniforms`], the atmosphere's uniforms and its transmittance and
+//! multiple-scattering LUTs): the frame plan's [`CloudFrame`] per pixel
+//! as the CPU's `PixelPass::Clouds` composes it — the high layer, then the
+//! low one, each over what the earlier passes drew (stars, planets, Milky
+//! Way and Moon dimmed by the layer's transmittance), with the aerial
+//! perspective in front of it.
+//!
+//! The WGSL ports skymodel's `clouds::{noise, field, march}` and
+//! `frame::clouds` function by function; every constant of the model
+//! (fields, phase function, octaves, march settings, lights, ambient
+//! light) reaches it through [`cloud_uniforms`], built from the Rust
+//! values, so that tuning the model in `skymodel` needs no WGSL edit
+//! beyond re-syncing the marked `march_low` block when its algorithm
+//! changes. The lights' transmittance at the cloud and the aerial
+//! perspective are looked up and marched per pixel in the same LUTs the
+//! CPU uses (`atmo.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+use himmel_skymodel::clouds::field::{
+    ProfileShape, HIGH_OCTAVES, LOW_OCTAVES, NOISE_CONTRAST, NOISE_PERIOD_CELLS,
+};
+use himmel_skymodel::clouds::march::MAX_MARCH_KM;
+use himmel_skymodel::clouds::noise::OCTAVE_SHIFT;
+use himmel_skymodel::clouds::{MultipleScattering, Octaves, CLOUD_PHASE, OCTAVES};
+use himmel_skymodel::frame::clouds::CLEAR;
+use himmel_skymodel::frame::lights::AERIAL_STEPS;
+use himmel_skymodel::frame::{CloudFrame, SkyInputs};
+use himmel_skymodel::spectrum::{BandWeights, Spectrum};
+use himmel_skymodel::{FramePlan, RenderError};
+use wgpu::util::DeviceExt;
+
+use super::luts::{band_groups, LutSlot};
+use super::sky_view::atmosphere_uniforms;
+use crate::frame::SkyGroup;
+use crate::gpu::{bind_group, storage_entry, uniform_entry, Gpu};
+use crate::pass::{Dispatch, Groups};
+use crate::uniforms::AtmosphereUniforms;
+
+/// The clouds pass: frame.wgsl, clouds.wgsl, then the atmosphere's
+/// uniforms and lookups (atmo.wgsl), the medium (medium.wgsl) and the
+/// bilinear lookup (bilinear.wgsl).
+pub const CLOUDS_WGSL: &str = concat!(
+    include_str!("../shaders/frame.wgsl"),
+    include_str!("../shaders/clouds.wgsl"),
+    include_str!("../shaders/atmo.wgsl"),
+    include_str!("../shaders/medium.wgsl"),
+    include_str!("../shaders/bilinear.wgsl")
+);
+
+/// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
+/// cloud fields, the model's constants, the lights and the aerial
+/// perspective's inputs. 384 bytes.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct CloudUniforms {
+    /// `LowField::offset_km`, km.
+    pub low_offset_km: [f32; 2],
+    /// `LowField::inv_scale`, km⁻¹.
+    pub low_inv_scale: f32,
+    /// `LowField::coverage`.
+    pub low_coverage: f32,
+    /// `LowField::base_km`.
+    pub low_base_km: f32,
+    /// `LowField::top_km`.
+    pub low_top_km: f32,
+    /// `LowField::extinction_per_km`, km⁻¹.
+    pub low_extinction_per_km: f32,
+    /// `LowField::half_extent_km` (`f32::MAX` for an unbounded layer).
+    pub low_half_extent_km: f32,
+    /// `ProfileShape::rise` of the kind.
+    pub low_rise: f32,
+    /// `ProfileShape::fall0`.
+    pub low_fall0: f32,
+    /// `ProfileShape::fall1`.
+    pub low_fall1: f32,
+    /// `LowField::seed`.
+    pub low_seed: u32,
+    /// `HighField::offset_km`, km.
+    pub high_offset_km: [f32; 2],
+    /// `HighField::along` (unit).
+    pub high_along: [f32; 2],
+    /// `HighField::inv_scale_along`, km⁻¹.
+    pub high_inv_scale_along: f32,
+    /// `HighField::inv_scale_across`, km⁻¹.
+    pub high_inv_scale_across: f32,
+    /// `HighField::coverage`.
+    pub high_coverage: f32,
+    /// `HighField::altitude_km`.
+    pub high_altitude_km: f32,
+    /// `HighField::optical_depth`.
+    pub high_optical_depth: f32,
+    /// `HighField::seed`.
+    pub high_seed: u32,
+    /// 1 when the frame has a low layer.
+    pub has_low: u32,
+    /// 1 when the frame has a high layer.
+    pub has_high: u32,
+    /// `noise::OCTAVE_SHIFT`.
+    pub octave_shift: [f32; 3],
+    /// `field::NOISE_CONTRAST`.
+    pub noise_contrast: f32,
+    /// `field::NOISE_PERIOD_CELLS`.
+    pub noise_period_cells: u32,
+    /// `field::LOW_OCTAVES`.
+    pub low_octaves: u32,
+    /// `field::HIGH_OCTAVES`.
+    pub high_octaves: u32,
+    /// `MarchSettings::steps`.
+    pub steps: u32,
+    /// `MarchSettings::light_steps`.
+    pub light_steps: u32,
+    /// `Octaves::n`.
+    pub octave_count: u32,
+    /// `Octaves::a`.
+    pub octave_a: f32,
+    /// `Octaves::b`.
+    pub octave_b: f32,
+    /// `Octaves::c`.
+    pub octave_c: f32,
+    /// `CLOUD_PHASE.g_forward`.
+    pub phase_g_forward: f32,
+    /// `CLOUD_PHASE.g_back`.
+    pub phase_g_back: f32,
+    /// `CLOUD_PHASE.w_forward`.
+    pub phase_w_forward: f32,
+    /// `Shell::r_ground`, km.
+    pub r_ground: f32,
+    /// `Shell::r_observer`, km.
+    pub r_observer: f32,
+    /// `march::MAX_MARCH_KM`.
+    pub max_march_km: f32,
+    /// `frame::clouds::CLEAR`.
+    pub clear: f32,
+    /// `CloudFrame::ambient_rgb`, cd/m².
+    pub ambient: [f32; 3],
+    /// Number of lights (0–2).
+    pub light_count: u32,
+    /// The first light's unit ENU direction.
+    pub light0_dir: [f32; 3],
+    /// 1 when the atmosphere pass runs (its LUTs are bound).
+    pub air: u32,
+    /// The first light's band factors outside the atmosphere.
+    pub light0_spectrum: [[f32; 4]; 3],
+    /// The first light's linear sRGB irradiance without the atmosphere, lux.
+    pub light0_rgb: [f32; 3],
+    /// `lights::AERIAL_STEPS`.
+    pub air_steps: u32,
+    /// The second light's direction.
+    pub light1_dir: [f32; 3],
+    /// `Diffusion::gain` (0: the octaves model).
+    pub diffusion_gain: f32,
+    /// The second light's band factors.
+    pub light1_spectrum: [[f32; 4]; 3],
+    /// The second light's irradiance without the atmosphere, lux.
+    pub light1_rgb: [f32; 3],
+    /// `Diffusion::g`.
+    pub diffusion_g: f32,
+    /// `SkyInputs::sun_dir`.
+    pub air_sun: [f32; 3],
+    /// `SkyInputs::sun.irradiance_scale`.
+    pub air_sun_scale: f32,
+    /// The Moon's direction of `SkyInputs::moon`.
+    pub air_moon: [f32; 3],
+    /// Its irradiance scale (0: no moonlit air).
+    pub air_moon_scale: f32,
+}
+
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 384);
+
+/// The light of `CloudFrame::light_sources` at slot `k` of `u`.
+fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
+    let rgb = BandWeights::solar().to_rgb(s).map(|v| v.max(0.0));
+    let (d, sp, c) = match k {
+        0 => (&mut u.light0_dir, &mut u.light0_spectrum, &mut u.light0_rgb),
+        _ => (&mut u.light1_dir, &mut u.light1_spectrum, &mut u.light1_rgb),
+    };
+    *d = dir.to_array();
+    *sp = band_groups(s);
+    *c = rgb;
+}
+
+/// The pass's uniforms for the frame plan's clouds `c`, with `air` the
+/// lights of the aerial perspective when the atmosphere pass runs (the
+/// plan's `sky_inputs`, its LUTs bound beside).
+pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms {
+    let m = &c.march;
+    // The diffusion model marches the octaves' first term (single
+    // scattering) and adds the diffuse source (march.rs `march_low`).
+    let (octaves, diffusion_g, diffusion_gain) = match m.scattering {
+        MultipleScattering::Octaves(o) => (o, 0.0, 0.0),
+        MultipleScattering::Diffusion(d) => (Octaves { n: 1, ..OCTAVES }, d.g, d.gain),
+    };
+    let mut u = CloudUniforms {
+        octave_shift: OCTAVE_SHIFT.to_array(),
+        noise_contrast: NOISE_CONTRAST,
+        noise_period_cells: NOISE_PERIOD_CELLS,
+        low_octaves: LOW_OCTAVES,
+        high_octaves: HIGH_OCTAVES,
+        steps: m.steps,
+        light_steps: m.light_steps,
+        octave_count: octaves.n,
+        octave_a: octaves.a,
+        octave_b: octaves.b,
+        octave_c: octaves.c,
+        diffusion_g,
+        diffusion_gain,
+        phase_g_forward: CLOUD_PHASE.g_forward,
+        phase_g_back: CLOUD_PHASE.g_back,
+        phase_w_forward: CLOUD_PHASE.w_forward,
+        r_ground: c.shell.r_ground,
+        r_observer: c.shell.r_observer,
+        max_march_km: MAX_MARCH_KM,
+        clear: CLEAR,
+        ambient: c.ambient_rgb,
+        air_steps: AERIAL_STEPS as u32,
+        ..Zeroable::zeroed()
+    };
+    if let Some(f) = &c.low {
+        let shape = ProfileShape::of(f.kind);
+        u.has_low = 1;
+        u.low_offset_km = f.offset_km.to_array();
+        u.low_inv_scale = f.inv_scale;
+        u.low_coverage = f.coverage;
+        u.low_base_km = f.base_km;
+        u.low_top_km = f.top_km;
+        u.low_extinction_per_km = f.extinction_per_km;
+        u.low_half_extent_km = f.half_extent_km.min(f32::MAX);
+        u.low_rise = shape.rise;
+        u.low_fall0 = shape.fall0;
+        u.low_fall1 = shape.fall1;
+        u.low_seed = f.seed;
+    }
+    if let Some(f) = &c.high {
+        u.has_high = 1;
+        u.high_offset_km = f.offset_km.to_array();
+        u.high_along = f.along.to_array();
+        u.high_inv_scale_along = f.inv_scale_along;
+        u.high_inv_scale_across = f.inv_scale_across;
+        u.high_coverage = f.coverage;
+        u.high_altitude_km = f.altitude_km;
+        u.high_optical_depth = f.optical_depth;
+        u.high_seed = f.seed;
+    }
+    let lights = c.light_sources();
+    u.light_count = lights.len().min(2) as u32;
+    for (k, (dir, s)) in lights.iter().take(2).enumerate() {
+        set_light(&mut u, k, *dir, s);
+    }
+    if let Some(inputs) = air {
+        u.air = 1;
+        u.air_sun = inputs.sun_dir.to_array();
+        u.air_sun_scale = inputs.sun.irradiance_scale;
+        if let Some((m, dir)) = inputs.moon {
+            u.air_moon = dir.to_array();
+            u.air_moon_scale = m.irradiance_scale;
+        }
+    }
+    u
+}
+
+/// The clouds pass.
+pub struct CloudsPass {
+    layout: wgpu::BindGroupLayout,
+    pipeline: wgpu::ComputePipeline,
+    /// Zero-filled LUT stand-ins for frames without the atmosphere pass.
+    no_luts: Option<wgpu::Buffer>,
+}
+
+impl CloudsPass {
+    /// Compiles the pass.
+    pub fn new(gpu: &Gpu, sky: &SkyGroup) -> Self {
+        let module = gpu.shader("clouds.wgsl", CLOUDS_WGSL);
+        let layout = gpu
+            .device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some("clouds"),
+                entries: &[
+                    uniform_entry::<CloudUniforms>(0),
+                    uniform_entry::<AtmosphereUniforms>(1),
+                    storage_entry(2, true),
+                    storage_entry(3, true),
+                    storage_entry(4, true),
+                ],
+            });
+        let pl = gpu.pipeline_layout("clouds", &[&sky.layout, &layout]);
+        CloudsPass {
+            pipeline: gpu.compute_pipeline(&pl, &module, "clouds_pass"),
+            layout,
+            no_luts: None,
+        }
+    }
+
+    /// The pass over every band when the plan has cloud layers: its
+    /// uniforms and the LUTs (uploaded unless `gpu_luts` holds them).
+    pub fn prepare(
+        &mut self,
+        gpu: &Gpu,
+        gpu_luts: &mut LutSlot,
+        plan: &FramePlan,
+    ) -> Result<Option<Dispatch>, RenderError> {
+        let Some(c) = plan.clouds.as_ref() else {
+            return Ok(None);
+        };
+        let air = plan.luts.as_ref().zip(plan.sky_inputs.as_ref());
+        let u = cloud_uniforms(c, air.map(|(_, inputs)| inputs));
+        let (atmo, luts) = match air {
+            Some((luts, inputs)) => {
+                let g = gpu_luts.upload(gpu, luts);
+                let bufs = [g.trans.clone(), g.trans_s.clone(), g.multi.clone()];
+                (atmosphere_uniforms(luts, &inputs.sun), bufs)
+            }
+            _ => {
+                let z = self.no_luts(gpu);
+                (Zeroable::zeroed(), [z.clone(), z.clone(), z])
+            }
+        };
+        let init = |label, contents: &[u8]| {
+            gpu.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage: wgpu::BufferUsages::UNIFORM,
+                })
+        };
+        let uniform = init("cloud uniforms", bytemuck::bytes_of(&u));
+        let atmo = init("cloud atmosphere", bytemuck::bytes_of(&atmo));
+        let group = bind_group(
+            &gpu.device,
+            "clouds",
+            &self.layout,
+            &[
+                uniform.as_entire_binding(),
+                atmo.as_entire_binding(),
+                luts[0].as_entire_binding(),
+                luts[1].as_entire_binding(),
+                luts[2].as_entire_binding(),
+            ],
+        );
+        Ok(Some(Dispatch {
+            label: "clouds",
+            pipeline: self.pipeline.clone(),
+            group1: Some(group),
+            groups: Groups::Band,
+        }))
+    }
+
+    fn no_luts(&mut self, gpu: &Gpu) -> wgpu::Buffer {
+        self.no_luts
+            .get_or_insert_with(|| {
+                gpu.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("no LUTs"),
+                        contents: &[0u8; 48],
+                        usage: wgpu::BufferUsages::STORAGE,
+                    })
+            })
+            .clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::uniforms::tests::{assert_wgsl_layout, fields};
+    use std::mem::size_of;
+
+    /// The module validates and the uniform struct's size, offsets and
+    /// types are those naga computes for WGSL `Clouds`.
+    #[test]
+    fn the_shader_validates_and_its_uniforms_match() {
+        let module = naga::front::wgsl::parse_str(CLOUDS_WGSL).expect("clouds.wgsl parses");
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .expect("clouds.wgsl validates");
+        assert!(module.entry_points.iter().any(|e| e.name == "clouds_pass"));
+        let rust = fields!(
+            CloudUniforms,
+            [
+                low_offset_km,
+                low_inv_scale,
+                low_coverage,
+                low_base_km,
+                low_top_km,
+                low_extinction_per_km,
+                low_half_extent_km,
+                low_rise,
+                low_fall0,
+                low_fall1,
+                low_seed,
+                high_offset_km,
+                high_along,
+                high_inv_scale_along,
+                high_inv_scale_across,
+                high_coverage,
+                high_altitude_km,
+                high_optical_depth,
+                high_seed,
+                has_low,
+                has_high,
+                octave_shift,
+                noise_contrast,
+                noise_period_cells,
+                low_octaves,
+                high_octaves,
+                steps,
+                light_steps,
+                octave_count,
+                octave_a,
+                octave_b,
+                octave_c,
+                phase_g_forward,
+                phase_g_back,
+                phase_w_forward,
+                r_ground,
+                r_observer,
+                max_march_km,
+                clear,
+                ambient,
+                light_count,
+                light0_dir,
+                air,
+                light0_spectrum,
+                light0_rgb,
+                air_steps,
+                light1_dir,
+                diffusion_gain,
+                light1_spectrum,
+                light1_rgb,
+                diffusion_g,
+                air_sun,
+                air_sun_scale,
+                air_moon,
+                air_moon_scale,
+            ]
+        );
+        assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);
+    }
+
+    /// The uniforms carry the Rust model's values: the frame's fields, the
+    /// phase function, the octaves, the march settings, the lights.
+    #[test]
+    fn uniforms_carry_the_model() {
+        use himmel_skymodel::clouds::DIFFUSION;
+        use himmel_skymodel::{Effect, Scene, SkyState};
+        let mut s = Scene::default();
+        s.time.utc = "2024-06-21T11:00:00Z".into();
+        s.effects = vec![Effect::Clouds];
+        s.clouds.low.coverage = 0.6;
+        s.clouds.low.steps = 48;
+        s.clouds.low.extent_km = 3.0;
+        s.clouds.high.coverage = 0.3;
+        let state = SkyState::at(&s).expect("state");
+        let c = CloudFrame::prepare(&s, &state, None, None, None);
+        let u = cloud_uniforms(&c, None);
+        let (low, high) = (c.low.expect("low"), c.high.expect("high"));
+        assert_eq!((u.has_low, u.has_high, u.air), (1, 1, 0));
+        assert_eq!(u.low_offset_km, low.offset_km.to_array());
+        assert_eq!(u.low_half_extent_km, 3.0);
+        assert_eq!(u.high_inv_scale_along, high.inv_scale_along);
+        assert_eq!((u.steps, u.light_steps), (48, c.march.light_steps));
+        assert_eq!(
+            [u.octave_a, u.octave_b, u.octave_c],
+            [OCTAVES.a, OCTAVES.b, OCTAVES.c]
+        );
+        // The default diffusion model: single scattering as the octaves'
+        // first term, then the diffuse source.
+        assert_eq!(u.octave_count, 1);
+        assert_eq!(
+            (u.diffusion_g, u.diffusion_gain),
+            (DIFFUSION.g, DIFFUSION.gain)
+        );
+        assert_eq!(u.phase_g_forward, CLOUD_PHASE.g_forward);
+        assert_eq!(u.r_observer, c.shell.r_observer);
+        // The Sun, unextinguished without the atmosphere: its irradiance
+        // as the CPU lights the cloud with it.
+        assert_eq!(u.light_count, 1);
+        let cpu = c.lights_at(glam::Vec3::Z, 1.0);
+        assert_eq!(u.light0_rgb, cpu[0].irradiance_rgb);
+        assert_eq!(u.light0_dir, cpu[0].dir.to_array());
+        // An unbounded layer: a finite half-width no position exceeds.
+        s.clouds.low.extent_km = 0.0;
+        let c = CloudFrame::prepare(&s, &state, None, None, None);
+        assert_eq!(cloud_uniforms(&c, None).low_half_extent_km, f32::MAX);
+    }
+}
