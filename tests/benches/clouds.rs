@@ -6,7 +6,8 @@
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use himmel_skymodel::clouds::{
-    march_low, shade_high, CloudLight, HighField, LowField, MarchSettings, Shell, OCTAVES,
+    march_low, shade_high, CloudLight, HighField, LowField, MarchSettings, Shell,
+    MULTIPLE_SCATTERING,
 };
 use himmel_skymodel::scene::{HighCloudSpec, LowCloudSpec};
 
@@ -46,7 +47,7 @@ fn bench(c: &mut Criterion) {
     let settings = MarchSettings {
         steps: 64,
         light_steps: 6,
-        octaves: OCTAVES,
+        scattering: MULTIPLE_SCATTERING,
     };
     let rays = rays();
     c.bench_function("clouds/low_march_256_rays", |b| {
