@@ -187,6 +187,60 @@ mod tests {
     use crate::atmosphere::{AtmosphereParams, LutConfig};
 
     #[test]
+    fn dark_rows_equal_their_march() {
+        // Sky views from the nadir Sun to daylight, on the ground and at
+        // 3 km: each row equals its texel-by-texel march bit for bit, and
+        // the night's rows take the shortcut.
+        use crate::atmosphere::{SkyView, SkyViewInput};
+        let luts = AtmosphereLuts::compute(&AtmosphereParams::default(), &LutConfig::small());
+        let mut dark_rows = 0;
+        for alt in [
+            -90.0f32, -60.0, -39.4, -25.0, -18.0, -12.0, -6.0, -1.0, 5.0, 40.0,
+        ] {
+            for h_km in [0.0, 3.0] {
+                let input = SkyViewInput {
+                    observer_altitude_km: h_km,
+                    sun_sin_elevation: alt.to_radians().sin(),
+                    irradiance_scale: 1.0,
+                };
+                for j in 0..luts.config.sky_view_h {
+                    let (row, want) = (
+                        SkyView::row(&luts, &input, j),
+                        SkyView::row_marched(&luts, &input, j),
+                    );
+                    let bits =
+                        |r: &[[f32; 3]]| r.iter().map(|p| p.map(f32::to_bits)).collect::<Vec<_>>();
+                    assert_eq!(bits(&row), bits(&want), "{alt}° {h_km} km row {j}");
+                    let r0 = m_r0(&luts, h_km);
+                    let mu = SkyView::texel_direction(
+                        0.5,
+                        (j as f32 + 0.5) / luts.config.sky_view_h as f32,
+                        luts.config.sky_view_w,
+                        luts.config.sky_view_h,
+                    )
+                    .z;
+                    let march = super::super::march::ViewMarch::new(
+                        &luts,
+                        r0,
+                        mu,
+                        luts.config.sky_view_steps,
+                    );
+                    if march.dark(&luts, r0, 1.0, input.sun_sin_elevation) {
+                        dark_rows += 1;
+                    }
+                }
+            }
+        }
+        assert!(dark_rows > 0, "no dark row");
+    }
+
+    /// The observer's radius of the sky view at altitude `h_km`.
+    fn m_r0(luts: &AtmosphereLuts, h_km: f32) -> f32 {
+        let m = &luts.medium;
+        m.bottom + h_km.clamp(0.0, m.top - m.bottom - 0.01)
+    }
+
+    #[test]
     fn lookups_at_a_radius_equal_the_luts() {
         // Radii from the ground to above the top, Sun cosines through the
         // terminator and the whole range: the same bits.

@@ -146,6 +146,29 @@ impl ViewMarch {
         }
     }
 
+    /// Whether [`Self::transfer`] is +0 in every band for every Sun at
+    /// angle `cos_theta ≤ cos_theta_max` from the view with local zenith
+    /// cosine `sun_z`: every step's source is dark ([`AtRadius::dark`]) and
+    /// the Sun is below the ground point's horizon at the greatest angle.
+    /// Both tests are monotone in the Sun's zenith cosine at a point,
+    /// which grows with `cos_theta` (t ≥ 0, r > 0), so the greatest angle
+    /// decides for all.
+    pub(super) fn dark(
+        &self,
+        luts: &AtmosphereLuts,
+        r0: f32,
+        cos_theta_max: f32,
+        sun_z: f32,
+    ) -> bool {
+        let mu_sun = |t: f32, r: f32| (r0 * sun_z + t * cos_theta_max) / r;
+        self.steps
+            .iter()
+            .all(|(t, c, _)| c.at.dark(luts, mu_sun(*t, c.r)))
+            && self.ground.map_or(true, |(t_max, rg, _)| {
+                luts.medium.sun_visibility(rg, mu_sun(t_max, rg)) <= 0.0
+            })
+    }
+
     /// The radiance transfer factor of the ray for a Sun at angle
     /// `cos_theta` from the view direction with local zenith cosine
     /// `sun_z`, seen from radius `r0`.
