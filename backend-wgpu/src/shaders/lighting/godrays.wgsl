@@ -1,0 +1,147 @@
+// Light shafts, `toth` (Tóth & Umenhoffer 2009; passes/lighting/godrays.rs):
+// each view ray is marched from the eye to the surface the G-buffer shows,
+// through the part of it inside the fog (y ≤ top), and sums the fog's
+// single scattering, in cd/m²:
+//
+//   L_s = σ_s Σ_i w_i [p(θ_sun) E_sun T_sun(y_i) V_sun(x_i)
+//                      + p(θ_moon) E_moon T_moon(y_i) V_moon(x_i)]
+//   A   = σ_s / 4π Σ_i w_i exp(−σ_t (top − y_i))
+//
+// * w_i = ∫ over step i of exp(−σ_t s) ds: the view ray's transmittance
+//   integrated exactly over each step (exact for light constant over it);
+// * T_light(y) = exp(−σ_t (top − y) / sin h) (world.md), E the light's
+//   transmitted illuminance (lux), p the fog's phase at cos θ = ray · l;
+// * V: the light's cascaded shadow map at the sample (2 × 2 PCF by the
+//   comparison sampler), 1 outside the maps;
+// * A: the sky's part per unit fluence ∫L dΩ — isotropic, the sky's light
+//   attenuated along the vertical (as for surfaces); shade.wgsl multiplies
+//   it by the sky's fluence and the surface's open fraction of the sky;
+// * N × N interleaving: texel (x, y) starts its march at the fraction
+//   ((x mod N) + N (y mod N) + ½) / N² of a step; shade.wgsl averages the
+//   N × N block.
+// The march runs on an image 1 / shaft_q.z of the frame's size, each texel
+// for the frame pixel at its block's centre. Sky pixels are not marched
+// (the sky's own fog is left out, as its extinction is).
+// common.wgsl (the uniforms, the view ray) is prepended.
+
+@group(0) @binding(1) var g_distance: texture_2d<f32>;
+@group(0) @binding(2) var g_material: texture_2d<u32>;
+@group(0) @binding(3) var shadows: texture_depth_2d_array;
+@group(0) @binding(4) var cmp_sampler: sampler_comparison;
+@group(0) @binding(5) var shafts_out: texture_storage_2d<rgba32float, write>;
+
+// The fog's phase function at cos θ, 1/sr.
+fn phase(c: f32) -> f32 {
+    let kind = u.shafts.y;
+    if kind < 0.5 {
+        return 1.0 / (4.0 * PI);
+    }
+    if kind < 1.5 {
+        return 3.0 / (16.0 * PI) * (1.0 + c * c);
+    }
+    let g = u.shafts.z;
+    let d = 1.0 + g * g - 2.0 * g * c;
+    return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
+}
+
+// Visibility of a directional light (cascades first..first+count) at a
+// point x in the air, view depth view_depth.
+fn light_visibility(first: u32, count: u32, x: vec3<f32>, view_depth: f32) -> f32 {
+    if count == 0u {
+        return 1.0;
+    }
+    var c = 0u;
+    loop {
+        if c + 1u >= count || view_depth <= u.cascade_info[first + c].z {
+            break;
+        }
+        c = c + 1u;
+    }
+    let layer = first + c;
+    let info = u.cascade_info[layer];
+    let s = u.cascade[layer] * vec4<f32>(x, 1.0);
+    let uv = light_uv(s);
+    if !inside(uv) || s.z <= 0.0 {
+        return 1.0;
+    }
+    let z = min(s.z, 1.0) - info.x / info.y;
+    return textureSampleCompareLevel(shadows, cmp_sampler, uv, i32(layer), z);
+}
+
+@compute @workgroup_size(8, 8)
+fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let w = u32(u.right.w);
+    let h = u32(u.up.w);
+    let div = max(u.shaft_q.z, 1u);
+    let lw = (w + div - 1u) / div;
+    let lh = (h + div - 1u) / div;
+    if gid.x >= lw || gid.y >= lh {
+        return;
+    }
+    let q = vec2<i32>(gid.xy);
+    let px = min(q * i32(div) + i32(div / 2u), vec2<i32>(i32(w) - 1, i32(h) - 1));
+    if textureLoad(g_material, px, 0).x == 0u {
+        textureStore(shafts_out, q, vec4<f32>(0.0));
+        return;
+    }
+    let dist = textureLoad(g_distance, px, 0).x;
+    let ray = pixel_ray(px, w, h);
+    let eye = u.eye.xyz;
+    let top = u.fog.y;
+    // The part of the ray inside the fog (y ≤ top): one interval.
+    var t0 = 0.0;
+    var t1 = dist;
+    if ray.y > 1e-6 {
+        t1 = min(t1, (top - eye.y) / ray.y);
+    } else if ray.y < -1e-6 {
+        t0 = max(t0, (top - eye.y) / ray.y);
+    } else if eye.y > top {
+        t1 = 0.0;
+    }
+    if t1 <= t0 {
+        textureStore(shafts_out, q, vec4<f32>(0.0));
+        return;
+    }
+    let steps = max(u.shaft_q.x, 1u);
+    let n = max(u.shaft_q.y, 1u);
+    let jitter = (f32((gid.x % n) + (gid.y % n) * n) + 0.5) / f32(n * n);
+    let dt = (t1 - t0) / f32(steps);
+    let st = u.fog.x;
+    // ∫_0^dt exp(−σ_t s) ds, and the transmittance across one step.
+    var seg = dt;
+    if st * dt > 1e-5 {
+        seg = (1.0 - exp(-st * dt)) / st;
+    }
+    let step_t = exp(-st * dt);
+    let fwd = dot(ray, u.forward.xyz);
+    let sun_on = u.sun_dir.w > 0.5 && u.sun_dir.y > 0.0;
+    let moon_on = u.moon_dir.w > 0.5 && u.moon_dir.y > 0.0;
+    var sun_sum = 0.0;
+    var moon_sum = 0.0;
+    var sky_sum = 0.0;
+    var tv = seg;
+    for (var i = 0u; i < steps; i++) {
+        let t = t0 + (f32(i) + jitter) * dt;
+        let x = eye + ray * t;
+        let depth = max(top - x.y, 0.0);
+        if sun_on {
+            let tl = exp(-st * depth / max(u.sun_dir.y, 1e-4));
+            sun_sum += tl * light_visibility(0u, u.counts.y, x, t * fwd) * tv;
+        }
+        if moon_on {
+            let tl = exp(-st * depth / max(u.moon_dir.y, 1e-4));
+            moon_sum += tl * light_visibility(u.flags.y, u.counts.z, x, t * fwd) * tv;
+        }
+        sky_sum += exp(-st * depth) * tv;
+        tv *= step_t;
+    }
+    let ss = u.shafts.x;
+    var l = vec3<f32>(0.0);
+    if sun_on {
+        l += u.sun_rgb.rgb * (ss * phase(dot(ray, u.sun_dir.xyz)) * sun_sum);
+    }
+    if moon_on {
+        l += u.moon_rgb.rgb * (ss * phase(dot(ray, u.moon_dir.xyz)) * moon_sum);
+    }
+    textureStore(shafts_out, q, vec4<f32>(l, ss / (4.0 * PI) * sky_sum));
+}
