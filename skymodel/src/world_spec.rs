@@ -255,6 +255,12 @@ pub struct GodraysSettings {
     /// The march runs on an image this many times smaller on each side,
     /// upsampled by depth (bilateral), in [1, 8] (default 2).
     pub resolution_divisor: u32,
+    /// Sky cells (of the environment light's, `lighting.sky`) looked up per
+    /// step for the sky's in-scattering, each in its visibility map, in
+    /// [0, 64] (default 8; 0 = no sky light in the fog). A step looks up
+    /// every k-th cell, the next step the next ones, so that the march
+    /// sweeps them all.
+    pub sky_cells: u32,
 }
 
 impl Default for GodraysSettings {
@@ -264,6 +270,7 @@ impl Default for GodraysSettings {
             steps: 32,
             interleave: 4,
             resolution_divisor: 2,
+            sky_cells: 8,
         }
     }
 }
@@ -325,6 +332,7 @@ impl LightingSpec {
                 1.0,
                 8.0,
             ),
+            ("lighting.godrays.sky_cells", g.sky_cells as f64, 0.0, 64.0),
         ] {
             range(f, v, lo, hi)?;
         }

@@ -196,11 +196,14 @@ fn light_shafts_against_mitsuba() {
     };
     // What this version achieves (lavapipe), with a margin: (error, FLIP)
     // per case and quality; the issue's goal for `toth` at its default
-    // quality is an error ≤ 10 %.
+    // quality is an error ≤ 10 % (measured 7.95 % and 2.17 %). Other
+    // settings (HIMMEL_GODRAYS) are held to the full march's bounds.
     let bounds = |name: &str, q: &str| -> (f64, f64) {
         match (name, q) {
-            ("sun_room_fog", _) => (0.30, 0.45),
-            ("atrium_fog", _) => (0.08, 0.12),
+            ("sun_room_fog", "default") => (0.095, 0.2),
+            ("sun_room_fog", _) => (0.145, 0.12),
+            ("atrium_fog", "default") => (0.03, 0.045),
+            ("atrium_fog", _) => (0.035, 0.025),
             (other, _) => panic!("no bounds for case {other}"),
         }
     };
@@ -211,7 +214,7 @@ fn light_shafts_against_mitsuba() {
         let name = c["name"].as_str().unwrap();
         let world = black_world(c);
         let off = render(&case_scene(c, None), &world);
-        let mut times = Vec::new();
+        let mut runs = Vec::new();
         for (q, settings) in &qualities {
             let m = measure(c, &world, &off, *settings);
             println!(
@@ -220,7 +223,7 @@ fn light_shafts_against_mitsuba() {
                 m.flip,
                 m.ms
             );
-            times.push(m.ms);
+            runs.push((m.ms, m.error));
             let (be, bf) = bounds(name, q);
             if !(m.error <= be && m.flip <= bf) {
                 failures.push(format!(
@@ -229,11 +232,20 @@ fn light_shafts_against_mitsuba() {
                 ));
             }
         }
-        if times.len() == 2 {
+        if let [(t_opt, e_opt), (t_full, e_full)] = runs[..] {
+            // Issue 15: the optimised march (interleaved, reduced
+            // resolution, bilateral upsample) at least 4× faster than the
+            // full-resolution 128-step march, at no more than 1.5× its
+            // error, in the same run.
+            let (speed, ratio) = (t_full / t_opt, e_opt / e_full);
             println!(
-                "{name}: the default quality is {:.1}× faster than the full march",
-                times[1] / times[0]
+                "{name}: the default quality is {speed:.1}× faster than the full march, error × {ratio:.2}"
             );
+            if !(speed >= 4.0 && ratio <= 1.5) {
+                failures.push(format!(
+                    "{name}: speed-up {speed:.2} (≥ 4), error ratio {ratio:.2} (≤ 1.5)"
+                ));
+            }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");

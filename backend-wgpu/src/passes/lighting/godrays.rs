@@ -7,10 +7,12 @@
 //! `resolution_divisor` times smaller on each side, the march's start
 //! offset interleaved over N × N texels; the lighting pass (`shade.wgsl`)
 //! gathers it back by depth and adds it after the view ray's extinction.
-//! The sky's part is isotropic, from twice the sky's horizontal
-//! illuminance (the fluence of a uniform upper hemisphere), attenuated
-//! along the vertical and scaled by the surface's open fraction of the sky
-//! — an approximation, as for the air's in-scattering.
+//! The sky's part comes from the environment light's cells above the
+//! horizon (each one's ∫L dΩ, the phase at its direction), each seen
+//! through its visibility map from the point in the fog and attenuated
+//! along its own direction to the fog's top; a step looks up a share of
+//! the cells in turn (every cell over the march), the pixel's interleaved
+//! set as the sky pass's.
 
 use himmel_skymodel::{FogSpec, GodraysSettings, RenderError};
 
@@ -18,9 +20,8 @@ use super::pipelines::Pipelines;
 use super::resources::texture;
 use crate::gpu::{bind_group, Gpu};
 
-/// The marched in-scattering (rgba32float: rgb Sun + Moon, cd/m²; a the
-/// sky's part per unit fluence) and its stand-in when the pass does not
-/// run.
+/// The marched in-scattering (rgba32float: rgb, cd/m²) and its stand-in
+/// when the pass does not run.
 #[derive(Default)]
 pub struct Shafts {
     image: Option<((u32, u32), wgpu::TextureView)>,
@@ -45,27 +46,24 @@ fn image(gpu: &Gpu, (w, h): (u32, u32)) -> wgpu::TextureView {
     .create_view(&Default::default())
 }
 
-/// The shafts' uniforms (`shafts`, `sky_fluence`, `shaft_q` in common.wgsl):
-/// all zero when the pass does not run.
+/// The shafts' uniforms (`shafts`, `shaft_q` in common.wgsl): off when
+/// the pass does not run.
 pub fn uniforms(
     fog: Option<&FogSpec>,
     settings: &GodraysSettings,
-    sky_horizontal_rgb: Option<[f64; 3]>,
     on: bool,
-) -> ([f32; 4], [f32; 4], [u32; 4]) {
+) -> ([f32; 4], [u32; 4]) {
     let Some(f) = fog.filter(|_| on) else {
-        return ([0.0; 4], [0.0; 4], [0, 1, 1, 0]);
+        return ([0.0; 4], [0, 1, 1, 0]);
     };
     let (kind, g) = f.phase.code();
-    let e = sky_horizontal_rgb.unwrap_or([0.0; 3]);
     (
         [f.scattering_per_m as f32, kind as f32, g as f32, 1.0],
-        [2.0 * e[0] as f32, 2.0 * e[1] as f32, 2.0 * e[2] as f32, 0.0],
         [
             settings.steps.max(1),
             settings.interleave.max(1),
             settings.resolution_divisor.max(1),
-            0,
+            settings.sky_cells,
         ],
     )
 }
@@ -80,6 +78,12 @@ pub struct MarchInputs<'a> {
     pub material: &'a wgpu::TextureView,
     /// The Sun's and Moon's cascades (or the 1-texel stand-in).
     pub shadows: &'a wgpu::TextureView,
+    /// The sky's cells (env.rs).
+    pub cells: &'a wgpu::Buffer,
+    /// Their visibility maps' matrices.
+    pub cell_view: &'a wgpu::Buffer,
+    /// Their visibility maps (or the stand-in).
+    pub visibility: &'a wgpu::TextureView,
 }
 
 impl Shafts {
@@ -112,6 +116,9 @@ impl Shafts {
                 tv(inputs.shadows),
                 wgpu::BindingResource::Sampler(&pipes.compare),
                 tv(out),
+                inputs.cells.as_entire_binding(),
+                inputs.cell_view.as_entire_binding(),
+                tv(inputs.visibility),
             ],
         );
         let mut enc = gpu.device.create_command_encoder(&Default::default());
@@ -157,11 +164,13 @@ mod tests {
             ..FogSpec::default()
         };
         let s = GodraysSettings::default();
-        let (a, b, c) = uniforms(Some(&f), &s, Some([1.0, 2.0, 3.0]), true);
+        let (a, c) = uniforms(Some(&f), &s, true);
         assert_eq!(a, [0.05, 2.0, 0.4, 1.0]);
-        assert_eq!(b, [2.0, 4.0, 6.0, 0.0]);
-        assert_eq!(c, [s.steps, s.interleave, s.resolution_divisor, 0]);
-        let (a, _, _) = uniforms(Some(&f), &s, None, false);
+        assert_eq!(
+            c,
+            [s.steps, s.interleave, s.resolution_divisor, s.sky_cells]
+        );
+        let (a, _) = uniforms(Some(&f), &s, false);
         assert_eq!(a[3], 0.0);
     }
 }

@@ -58,7 +58,6 @@ pub struct ShadeUniforms {
     cascade: [[f32; 16]; 8],
     cascade_info: [[f32; 4]; 8],
     shafts: [f32; 4],
-    sky_fluence: [f32; 4],
     shaft_q: [u32; 4],
 }
 
@@ -394,6 +393,9 @@ impl LightingPasses {
                 distance: &gb.views[0],
                 material: &gb.views[3],
                 shadows: self.maps.shadow_view().ok_or_else(missing)?,
+                cells: &tables.cells,
+                cell_view: self.maps.cell_matrices().ok_or_else(missing)?,
+                visibility: self.maps.visibility_view().ok_or_else(missing)?,
             };
             let div = inputs.scene.lighting.godrays.resolution_divisor;
             self.shafts
@@ -528,12 +530,8 @@ fn shade_uniforms(
         ShadowFilter::Soft => 2,
     };
     let (ap_scale, ap_max, ap_slices) = air_scale.unwrap_or((1.0, 0.0, 1.0));
-    let (shafts, sky_fluence, shaft_q) = godrays::uniforms(
-        scene.fog.as_ref(),
-        &scene.lighting.godrays,
-        inputs.env.map(|e| e.horizontal_rgb),
-        inputs.godrays,
-    );
+    let (shafts, shaft_q) =
+        godrays::uniforms(scene.fog.as_ref(), &scene.lighting.godrays, inputs.godrays);
     ShadeUniforms {
         eye: v4(cam.eye, cam.tan_half),
         forward: v4(cam.forward, cam.aspect),
@@ -565,7 +563,6 @@ fn shade_uniforms(
         cascade,
         cascade_info,
         shafts,
-        sky_fluence,
         shaft_q,
     }
 }

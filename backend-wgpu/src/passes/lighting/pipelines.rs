@@ -54,7 +54,7 @@ pub struct Pipelines {
     /// The light shafts' march (godrays.wgsl).
     pub godrays: wgpu::ComputePipeline,
     /// Its group 0: uniforms, distance, material, shadow maps, comparison
-    /// sampler, output.
+    /// sampler, output, sky cells, their matrices and visibility maps.
     pub godrays_layout: wgpu::BindGroupLayout,
     /// Trilinear, repeating (base colour).
     pub repeat: wgpu::Sampler,
@@ -221,6 +221,16 @@ impl Pipelines {
                     wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
                 ),
                 storage(5, wgpu::TextureFormat::Rgba32Float),
+                entry(6, c, buffer(STORAGE_RO, false)),
+                entry(7, c, buffer(STORAGE_RO, false)),
+                entry(
+                    8,
+                    c,
+                    texture(
+                        wgpu::TextureSampleType::Depth,
+                        wgpu::TextureViewDimension::D2Array,
+                    ),
+                ),
             ],
         });
         let godrays = gpu.compute_pipeline(

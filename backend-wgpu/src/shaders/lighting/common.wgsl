@@ -33,10 +33,20 @@ struct Shade {
     // Light shafts: σ_s (1/m), the phase (0 isotropic, 1 Rayleigh, 2 HG),
     // its g, 1 when the godrays pass ran.
     shafts: vec4<f32>,
-    // The sky's fluence ∫L dΩ at the fog's top, cd/m²·sr (rgb), 0.
-    sky_fluence: vec4<f32>,
-    // March steps, interleave N, resolution divisor, 0.
+    // March steps, interleave N, resolution divisor, sky cells per step.
     shaft_q: vec4<u32>,
+}
+
+struct SkyCell {
+    // xyz: direction (world); w: its visibility map's texel, m.
+    dir: vec4<f32>,
+    // xyz: ∫ L ω dω of the red channel; w: the cell's solid angle, sr.
+    r: vec4<f32>,
+    g: vec4<f32>,
+    b: vec4<f32>,
+    // x: its first part, y: its parts, z: the tangent of the cone around
+    // dir that holds the cell (env.rs `SkyCell`).
+    parts: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> u: Shade;

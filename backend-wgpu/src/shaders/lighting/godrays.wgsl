@@ -4,8 +4,8 @@
 // single scattering, in cd/m²:
 //
 //   L_s = σ_s Σ_i w_i [p(θ_sun) E_sun T_sun(y_i) V_sun(x_i)
-//                      + p(θ_moon) E_moon T_moon(y_i) V_moon(x_i)]
-//   A   = σ_s / 4π Σ_i w_i exp(−σ_t (top − y_i))
+//                      + p(θ_moon) E_moon T_moon(y_i) V_moon(x_i)
+//                      + Σ_k p(θ_k) S_k T_k(y_i) V_k(x_i)]
 //
 // * w_i = ∫ over step i of exp(−σ_t s) ds: the view ray's transmittance
 //   integrated exactly over each step (exact for light constant over it);
@@ -13,9 +13,15 @@
 //   transmitted illuminance (lux), p the fog's phase at cos θ = ray · l;
 // * V: the light's cascaded shadow map at the sample (2 × 2 PCF by the
 //   comparison sampler), 1 outside the maps;
-// * A: the sky's part per unit fluence ∫L dΩ — isotropic, the sky's light
-//   attenuated along the vertical (as for surfaces); shade.wgsl multiplies
-//   it by the sky's fluence and the surface's open fraction of the sky;
+// * the sky: its environment light's cells k above the horizon (env.rs;
+//   the texel's interleaved set and the aureoles' cells), S_k = |∫L ω dΩ|
+//   over the cell (≈ ∫L dΩ for a cell a few degrees wide) per channel,
+//   T_k = exp(−σ_t (top − y) / sin h_k) along the cell's own direction,
+//   V_k from the cell's visibility map at x_i. Cells below the horizon are
+//   left out (their light crosses the fog's whole depth, or the ground).
+//   A step looks up every `stride`-th cell (`sky_cells` per step), the next step the next ones,
+//   weighted by `stride`, so that the march sees each cell ~steps/stride
+//   times;
 // * N × N interleaving: texel (x, y) starts its march at the fraction
 //   ((x mod N) + N (y mod N) + ½) / N² of a step; shade.wgsl averages the
 //   N × N block.
@@ -29,6 +35,10 @@
 @group(0) @binding(3) var shadows: texture_depth_2d_array;
 @group(0) @binding(4) var cmp_sampler: sampler_comparison;
 @group(0) @binding(5) var shafts_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var<storage, read> cells: array<SkyCell>;
+@group(0) @binding(7) var<storage, read> cell_view: array<mat4x4<f32>>;
+@group(0) @binding(8) var visibility: texture_depth_2d_array;
+
 
 // The fog's phase function at cos θ, 1/sr.
 fn phase(c: f32) -> f32 {
@@ -66,6 +76,43 @@ fn light_visibility(first: u32, count: u32, x: vec3<f32>, view_depth: f32) -> f3
     }
     let z = min(s.z, 1.0) - info.x / info.y;
     return textureSampleCompareLevel(shadows, cmp_sampler, uv, i32(layer), z);
+}
+
+// Whether sky cell k's light reaches x (its visibility map's nearest
+// texel; 1 outside the map).
+fn sky_visibility(k: u32, x: vec3<f32>) -> f32 {
+    let s = cell_view[k] * vec4<f32>(x, 1.0);
+    let uv = light_uv(s);
+    if !inside(uv) || s.z <= 0.0 {
+        return 1.0;
+    }
+    let size = vec2<f32>(textureDimensions(visibility));
+    let t = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
+    return select(0.0, 1.0, s.z - 1e-4 <= textureLoad(visibility, t, i32(k), 0));
+}
+
+// The sky's in-scattering at x (depth below the fog's top), per unit σ_s
+// and step weight: cells j ≡ first (mod stride) of the texel's set and the
+// aureoles', × stride.
+fn sky_light(x: vec3<f32>, depth: f32, ray: vec3<f32>, cell_set: u32, first: u32, stride: u32) -> vec3<f32> {
+    let per = u.counts.x;
+    let total = per + u.flags.w;
+    let aureole_first = u.flags.z * u.flags.z * per;
+    var e = vec3<f32>(0.0);
+    for (var j = first; j < total; j += stride) {
+        var k = cell_set * per + j;
+        if j >= per {
+            k = aureole_first + j - per;
+        }
+        let c = cells[k];
+        if c.dir.y <= 0.0 {
+            continue;
+        }
+        let s = vec3<f32>(length(c.r.xyz), length(c.g.xyz), length(c.b.xyz));
+        let t = exp(-u.fog.x * depth / max(c.dir.y, 1e-3));
+        e += s * (phase(dot(ray, c.dir.xyz)) * t * sky_visibility(k, x));
+    }
+    return e * f32(stride);
 }
 
 @compute @workgroup_size(8, 8)
@@ -118,7 +165,12 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     let moon_on = u.moon_dir.w > 0.5 && u.moon_dir.y > 0.0;
     var sun_sum = 0.0;
     var moon_sum = 0.0;
-    var sky_sum = 0.0;
+    var sky_sum = vec3<f32>(0.0);
+    let sky_per_step = u.shaft_q.w;
+    let sky_on = u.flags.x == 1u && u.counts.x > 0u && sky_per_step > 0u;
+    let side = max(u.flags.z, 1u);
+    let cell_set = (gid.x % side) + (gid.y % side) * side;
+    let stride = clamp((u.counts.x + u.flags.w + sky_per_step - 1u) / max(sky_per_step, 1u), 1u, steps);
     var tv = seg;
     for (var i = 0u; i < steps; i++) {
         let t = t0 + (f32(i) + jitter) * dt;
@@ -132,7 +184,9 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
             let tl = exp(-st * depth / max(u.moon_dir.y, 1e-4));
             moon_sum += tl * light_visibility(u.flags.y, u.counts.z, x, t * fwd) * tv;
         }
-        sky_sum += exp(-st * depth) * tv;
+        if sky_on {
+            sky_sum += sky_light(x, depth, ray, cell_set, i % stride, stride) * tv;
+        }
         tv *= step_t;
     }
     let ss = u.shafts.x;
@@ -143,5 +197,6 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     if moon_on {
         l += u.moon_rgb.rgb * (ss * phase(dot(ray, u.moon_dir.xyz)) * moon_sum);
     }
-    textureStore(shafts_out, q, vec4<f32>(l, ss / (4.0 * PI) * sky_sum));
+    l += ss * sky_sum;
+    textureStore(shafts_out, q, vec4<f32>(l, 0.0));
 }

@@ -23,8 +23,7 @@
 // * light shafts (godrays.wgsl, when the pass runs): the fog's
 //   in-scattering along the view ray, marched at a reduced resolution, is
 //   gathered here by depth over the interleaved N × N block and added
-//   after the view ray's fog extinction (its sky part scaled by the
-//   surface's open fraction of the sky, as the air's).
+//   after the view ray's fog extinction.
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -32,18 +31,6 @@ struct MaterialGpu {
     base_color: vec4<f32>,
     emissive_texture: vec4<f32>,
     metallic_roughness: vec4<f32>,
-}
-
-struct SkyCell {
-    // xyz: direction (world); w: its visibility map's texel, m.
-    dir: vec4<f32>,
-    // xyz: ∫ L ω dω of the red channel; w: the cell's solid angle, sr.
-    r: vec4<f32>,
-    g: vec4<f32>,
-    b: vec4<f32>,
-    // x: its first part, y: its parts, z: the tangent of the cone around
-    // dir that holds the cell (env.rs `SkyCell`).
-    parts: vec4<f32>,
 }
 
 struct CellPart {
@@ -80,8 +67,8 @@ struct CellPart {
 @group(1) @binding(1) var sky_s_out: texture_storage_2d<r32float, write>;
 @group(1) @binding(2) var sky_e_in: texture_2d<f32>;
 @group(1) @binding(3) var sky_s_in: texture_2d<f32>;
-// The godrays pass's in-scattering (rgb: Sun + Moon, cd/m²; a: the sky's
-// part per unit fluence), at 1 / shaft_q.z of the resolution.
+// The godrays pass's in-scattering (rgb, cd/m²), at 1 / shaft_q.z of the
+// resolution.
 @group(1) @binding(4) var shafts_in: texture_2d<f32>;
 
 const SPECULAR_LEVELS: f32 = 5.0;
@@ -628,7 +615,7 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if u.shafts.w > 0.5 {
         let sh = gather_shafts(px, dist, w, h);
-        l += sh.rgb + u.sky_fluence.rgb * sh.a * open;
+        l += sh.rgb;
     }
     if u.scales.z > 0.0 {
         let uvw = vec3<f32>(
