@@ -159,13 +159,6 @@ impl Pipelines {
                 include_str!("../../shaders/lighting/shade.wgsl")
             ),
         );
-        let rmod = gpu.shader(
-            "godrays.wgsl",
-            concat!(
-                include_str!("../../shaders/lighting/common.wgsl"),
-                include_str!("../../shaders/lighting/godrays.wgsl")
-            ),
-        );
         let c = wgpu::ShaderStages::COMPUTE;
         let storage = |binding, format| {
             entry(
@@ -194,50 +187,7 @@ impl Pipelines {
                 entry(4, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
             ],
         });
-        let godrays_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("godrays"),
-            entries: &[
-                entry(0, c, buffer(wgpu::BufferBindingType::Uniform, false)),
-                entry(1, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
-                entry(
-                    2,
-                    c,
-                    texture(
-                        wgpu::TextureSampleType::Uint,
-                        wgpu::TextureViewDimension::D2,
-                    ),
-                ),
-                entry(
-                    3,
-                    c,
-                    texture(
-                        wgpu::TextureSampleType::Depth,
-                        wgpu::TextureViewDimension::D2Array,
-                    ),
-                ),
-                entry(
-                    4,
-                    c,
-                    wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
-                ),
-                storage(5, wgpu::TextureFormat::Rgba32Float),
-                entry(6, c, buffer(STORAGE_RO, false)),
-                entry(7, c, buffer(STORAGE_RO, false)),
-                entry(
-                    8,
-                    c,
-                    texture(
-                        wgpu::TextureSampleType::Depth,
-                        wgpu::TextureViewDimension::D2Array,
-                    ),
-                ),
-            ],
-        });
-        let godrays = gpu.compute_pipeline(
-            &gpu.pipeline_layout("godrays", &[&godrays_layout]),
-            &rmod,
-            "march",
-        );
+        let (godrays, godrays_layout) = godrays_pipeline(gpu);
         let shade = gpu.compute_pipeline(
             &gpu.pipeline_layout("shade", &[&shade_layout, &sky_in_layout]),
             &smod,
@@ -283,6 +233,75 @@ impl Pipelines {
             ),
         }
     }
+}
+
+/// The light shafts' march (`godrays.wgsl`) and its group 0: uniforms,
+/// distance, material, shadow maps, comparison sampler, output, sky cells,
+/// their matrices and visibility maps.
+fn godrays_pipeline(gpu: &Gpu) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+    let dev = &gpu.device;
+    let c = wgpu::ShaderStages::COMPUTE;
+    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
+    let rmod = gpu.shader(
+        "godrays.wgsl",
+        concat!(
+            include_str!("../../shaders/lighting/common.wgsl"),
+            include_str!("../../shaders/lighting/godrays.wgsl")
+        ),
+    );
+    let godrays_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("godrays"),
+        entries: &[
+            entry(0, c, buffer(wgpu::BufferBindingType::Uniform, false)),
+            entry(1, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            entry(
+                2,
+                c,
+                texture(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2,
+                ),
+            ),
+            entry(
+                3,
+                c,
+                texture(
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+            ),
+            entry(
+                4,
+                c,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+            ),
+            entry(
+                5,
+                c,
+                wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: wgpu::TextureFormat::Rgba32Float,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+            ),
+            entry(6, c, buffer(STORAGE_RO, false)),
+            entry(7, c, buffer(STORAGE_RO, false)),
+            entry(
+                8,
+                c,
+                texture(
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+            ),
+        ],
+    });
+    let godrays = gpu.compute_pipeline(
+        &gpu.pipeline_layout("godrays", &[&godrays_layout]),
+        &rmod,
+        "march",
+    );
+    (godrays, godrays_layout)
 }
 
 /// The bind-group layouts of the G-buffer, the light depth and the
