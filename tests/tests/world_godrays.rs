@@ -1,8 +1,8 @@
 //! Light shafts (issue 15, `lighting.godrays`) against the physics:
 //!
 //! * a horizontal view through the homogeneous fog layer to a black wall
-//!   d metres away, nothing between (no shadows): the Sun's in-scattered
-//!   radiance is E_dir · σ_s · p(θ) · exp(−σ_t (top − y) / sin h) ·
+//!   d metres away, nothing between (no shadows): the Sun's (or by night
+//!   the Moon's) in-scattered radiance is E_dir · σ_s · p(θ) · exp(−σ_t (top − y) / sin h) ·
 //!   (1 − exp(−σ_t d)) / σ_t, within 2 % (issue item 5), at the default
 //!   quality and at a full-resolution 128-step march;
 //! * the pass runs only where the scene calls for it, and says why not.
@@ -22,8 +22,8 @@ const EYE_Y: f64 = 2.0;
 const WALL_M: f64 = 40.0;
 
 /// The scene: the eye at 2 m looking north, horizontally, at `time`
-/// (Munich), lit by the Sun alone (no sky: the sky's part of the fog's
-/// light stays out of the analytic case).
+/// (Munich), lit by the Sun or the Moon alone (no sky: the sky's part of
+/// the fog's light stays out of the analytic case).
 fn scene(time: &str, fog: FogSpec, godrays: bool, q: GodraysSettings) -> Scene {
     let mut s = Scene::default();
     s.time.utc = time.into();
@@ -36,7 +36,7 @@ fn scene(time: &str, fog: FogSpec, godrays: bool, q: GodraysSettings) -> Scene {
     s.camera.position_m = Some([0.0, EYE_Y, 0.0]);
     s.camera.look_at_m = Some([0.0, EYE_Y, -10.0]);
     s.camera.up = Some([0.0, 1.0, 0.0]);
-    s.effects = vec![Effect::Sun, Effect::World];
+    s.effects = vec![Effect::Sun, Effect::Moon, Effect::World];
     if godrays {
         s.effects.push(Effect::Godrays);
     }
@@ -98,11 +98,12 @@ fn horizontal_view_through_the_layer_matches_the_closed_form() {
         ..GodraysSettings::default()
     };
     // A morning Sun (east, low) and a noon Sun (south, high) seen sideways
-    // and behind; each phase function.
+    // and behind, each phase function; the full Moon at 55° by night.
     for (time, phase) in [
         ("2024-06-21T05:00:00Z", FogPhase::Hg(0.6)),
         ("2024-06-21T11:00:00Z", FogPhase::Rayleigh),
         ("2024-06-21T07:00:00Z", FogPhase::Isotropic),
+        ("2024-10-17T23:30:00Z", FogPhase::Hg(0.3)),
     ] {
         let fog = FogSpec {
             scattering_per_m: 0.02,
@@ -111,7 +112,8 @@ fn horizontal_view_through_the_layer_matches_the_closed_form() {
             top_m: Some(30.0),
         };
         let off = render(&scene(time, fog, false, full), &world);
-        let sun = off.lights.direct.sun.expect("the Sun is up");
+        let d = off.lights.direct;
+        let sun = d.sun.or(d.moon).expect("the Sun or the Moon is up");
         let h = sun.altitude();
         let l = sun.dir_world();
         // cos θ between the sunlight's travel (−l) and the scattered
@@ -133,7 +135,7 @@ fn horizontal_view_through_the_layer_matches_the_closed_form() {
             let stat = on.passes.iter().find(|p| p.name == "godrays").unwrap();
             assert!(stat.ran && stat.ms.is_some(), "{stat:?}");
             eprintln!(
-                "{time} {phase:?} (Sun {:.1}°, cos θ {cos_t:.3}) {name}: {got:.4} cd/m² vs {want:.4} ({:+.2} %)",
+                "{time} {phase:?} (light at {:.1}°, cos θ {cos_t:.3}) {name}: {got:.4} cd/m² vs {want:.4} ({:+.2} %)",
                 h.to_degrees(),
                 (got / want - 1.0) * 100.0
             );
@@ -171,6 +173,8 @@ fn the_pass_runs_only_where_the_scene_calls_for_it() {
     let out = render(&scene("2024-06-21T11:00:00Z", clear, true, q), &world);
     assert!(reason(&out).starts_with("no fog scatters light"));
     // The Sun below the horizon, the Moon not requested.
-    let out = render(&scene("2024-06-21T23:00:00Z", fog, true, q), &world);
+    let mut s = scene("2024-06-21T23:00:00Z", fog, true, q);
+    s.effects.retain(|e| *e != Effect::Moon);
+    let out = render(&s, &world);
     assert!(reason(&out).starts_with("neither the Sun nor the Moon"));
 }
