@@ -19,7 +19,8 @@
 //   T_k = exp(−σ_t (top − y) / sin h_k) along the cell's own direction,
 //   V_k from the cell's visibility map at x_i. Cells below the horizon are
 //   left out (their light crosses the fog's whole depth, or the ground).
-//   A step looks up every `stride`-th cell (`sky_cells` per step), the next step the next ones,
+//   Step i looks up the interleaved set (texel's set + i) mod N_sets, and
+//   in it every `stride`-th cell (`sky_cells` per step), the next step the next ones,
 //   weighted by `stride`, so that the march sees each cell ~steps/stride
 //   times;
 // * N × N interleaving: texel (x, y) starts its march at the fraction
@@ -185,7 +186,9 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
             moon_sum += tl * light_visibility(u.flags.y, u.counts.z, x, t * fwd) * tv;
         }
         if sky_on {
-            sky_sum += sky_light(x, depth, ray, cell_set, i % stride, stride) * tv;
+            // The sets take turns along the march (the texel's own first).
+            let set_i = (cell_set + i) % (side * side);
+            sky_sum += sky_light(x, depth, ray, set_i, i % stride, stride) * tv;
         }
         tv *= step_t;
     }
