@@ -53,7 +53,8 @@ pub fn par_chunks(
 /// One per-pixel pass of a frame, ready to draw a band.
 #[derive(Clone, Copy)]
 pub enum PixelPass<'a> {
-    /// The sky's in-scattered light ([`SkyLight::radiance`]), added.
+    /// The sky's in-scattered light ([`SkyLight::radiance`]), added
+    /// ([`SkyLight::add_band`]).
     Atmosphere(&'a SkyLight),
     /// The Sun's disk.
     Sun(SunDraw<'a>),
@@ -95,16 +96,7 @@ impl PixelPass<'_> {
     /// Draws the pass into whole rows from row `y0` on of a `w`-wide image.
     fn band(&self, y0: usize, w: usize, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>]) {
         match self {
-            PixelPass::Atmosphere(sky) => {
-                for (p, d) in pixels.iter_mut().zip(dirs) {
-                    if let Some(d) = d {
-                        let l = sky.radiance(*d);
-                        for k in 0..3 {
-                            p[k] += l[k];
-                        }
-                    }
-                }
-            }
+            PixelPass::Atmosphere(sky) => sky.add_band(pixels, dirs),
             PixelPass::Sun(s) => s.band(y0 * w, pixels, dirs),
             PixelPass::Corona { corona, luts, r0 } => {
                 crate::sun_pass::corona_band(pixels, dirs, corona, *luts, *r0)

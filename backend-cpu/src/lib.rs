@@ -256,7 +256,7 @@ fn execute(
                 if let Some(c) = &plan.clouds {
                     // Amortised marching: the low layer's grid first.
                     let grid = (c.low.is_some() && c.march_stride > 1).then(|| {
-                        &*cloud_grid.get_or_init(|| {
+                        cloud_grid.get_or_init(|| {
                             LowCloudGrid::build(c, &runner.directions, c.march_stride as usize)
                         })
                     });

@@ -108,16 +108,7 @@ pub fn milkyway(frame: &NightFrame, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3
 }
 
 /// [`milkyway`] over a band of pixels and their directions.
+/// ([`himmel_skymodel::milkyway::NightBackground::add_band`]).
 pub fn milkyway_band(frame: &NightFrame, pixels: &mut [[f32; 3]], dirs: &[Option<Vec3>]) {
-    for (p, d) in pixels.iter_mut().zip(dirs) {
-        let Some(d) = *d else { continue };
-        if d.z < 0.0 {
-            continue;
-        }
-        let l = frame.background.radiance(d);
-        let t = frame.extinction.rgb(d);
-        for k in 0..3 {
-            p[k] += l[k] * t[k];
-        }
-    }
+    frame.background.add_band(&frame.extinction, pixels, dirs);
 }

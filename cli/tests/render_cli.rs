@@ -669,3 +669,54 @@ fn cloud_flags_and_keys() {
     assert_eq!(v["clouds"]["low"]["kind"], "cumulus");
     assert_eq!(v["clouds"]["high"]["altitude_km"], 9.0);
 }
+
+/// Under an overcast sky (a stratocumulus deck at coverage 1) the night
+/// passes do not run and `--stats` says why; broken cloud keeps them.
+#[test]
+fn overcast_night_runs_no_star_pass() {
+    let out = tmp("overcast.exr");
+    let stats = tmp("overcast_stats.json");
+    for (coverage, hidden) in [("1", true), ("0.4", false)] {
+        let (code, _, err) = himmel(&[
+            "render",
+            "--time",
+            "2024-01-25T22:00:00Z",
+            "--lat",
+            "48.14",
+            "--lon",
+            "11.58",
+            "--clouds-type",
+            "stratocumulus",
+            "--clouds-coverage",
+            coverage,
+            "--effects",
+            "atmosphere,stars,planets,milkyway,clouds",
+            "--width",
+            "32",
+            "--height",
+            "32",
+            "--stats",
+            &stats,
+            "--output",
+            &out,
+        ]);
+        assert_eq!(code, 0, "{err}");
+        let s: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
+        for name in ["stars", "milkyway"] {
+            let p = s["passes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .find(|p| p["name"] == name)
+                .unwrap();
+            let overcast = p["reason"]
+                .as_str()
+                .is_some_and(|r| r.starts_with("hidden by an overcast sky"));
+            assert_eq!(overcast, hidden, "coverage {coverage}: {p}");
+            if hidden {
+                assert_eq!(p["ran"], false, "{p}");
+            }
+        }
+    }
+}

@@ -23,6 +23,8 @@ use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use crate::spectrum::{linear_srgb_to_xyz, luminance};
 
+mod rows;
+
 /// Exposure: automatic metering or a fixed EV100.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub enum Exposure {
@@ -105,9 +107,16 @@ pub fn meter_ev100(pixels: &[[f32; 3]], valid: &[bool]) -> f64 {
         .map(|(pixels, valid)| {
             let mut sum = 0.0f64;
             let mut n = 0usize;
+            // Runs of one luminance (the ground, a black sky) take the
+            // logarithm once: the same terms, in the same order.
+            let mut last = (f32::NAN.to_bits(), 0.0f64);
             for (p, &v) in pixels.iter().zip(valid) {
                 if v {
-                    sum += (luminance(*p).max(1e-9) as f64).ln();
+                    let y = luminance(*p).max(1e-9);
+                    if y.to_bits() != last.0 {
+                        last = (y.to_bits(), (y as f64).ln());
+                    }
+                    sum += last.1;
                     n += 1;
                 }
             }
@@ -321,7 +330,8 @@ fn develop_with(
 }
 
 /// Develops image row `y` ([`develop_pixel`] of each pixel) into `out`
-/// (RGB, 3 bytes a pixel); pixels not `valid` stay as they are.
+/// (RGB, 3 bytes a pixel); pixels not `valid` stay as they are. With night
+/// vision a block of pixels at a time ([`rows`]: the same bytes).
 pub fn develop_row(
     pixels: &[[f32; 3]],
     valid: &[bool],
@@ -330,6 +340,9 @@ pub fn develop_row(
     settings: &CameraSettings,
     out: &mut [u8],
 ) {
+    if settings.night_vision {
+        return rows::develop_row_night(pixels, valid, y, k, settings.dither, out);
+    }
     let table = ToneTable::get();
     for (x, ((p, &v), o)) in pixels
         .iter()

@@ -14,7 +14,8 @@
 //!   it against M42, the LMC, the SMC, M31, the Pleiades and η Car (all within
 //!   0.3°). The sky is rotated into the horizon frame of date by the catalogue
 //!   stars' ICRS → ENU matrix (precession, nutation, sidereal time, latitude)
-//!   after refraction is taken off the altitude below 10° ([`unrefracted`]).
+//!   after refraction is taken off the altitude below 10° ([`unrefracted`],
+//!   tabulated in the apparent zenith cosine: [`Unrefraction`]).
 //!   Calibration (in the file header): the integrated starlight of stars
 //!   of all magnitudes, averaged over galactic longitude, is ≈ 250 S10 on the
 //!   galactic equator and ≈ 25 S10 at the galactic poles (Roach & Megill
@@ -51,6 +52,9 @@ use std::sync::OnceLock;
 use glam::{DMat3, Mat3, Vec3};
 
 use crate::stars::colour_from_bv;
+
+mod block;
+pub use block::{Unrefraction, REFRACTION_BELOW_Z};
 
 /// One S10 unit (one V = 10 star per square degree), cd/m².
 pub const S10_CD_M2: f64 =
@@ -156,8 +160,16 @@ impl MilkyWayMap {
     /// Luminance (linear sRGB, cd/m²) towards the ICRS unit vector `u`,
     /// bilinear, wrapping in right ascension.
     pub fn radiance(&self, u: Vec3) -> [f32; 3] {
-        let ra = crate::angle::atan2(u.y, u.x);
-        let dec = crate::angle::asin(u.z);
+        self.bilinear(self.taps(u.x, u.y, u.z))
+    }
+
+    /// The bilinear taps of [`Self::radiance`] towards ICRS (x, y, z): the
+    /// first texel's column and row and the weights of the next ones.
+    /// Without branches (selects), so that a loop over pixels vectorises.
+    #[inline(always)]
+    pub(crate) fn taps(&self, ux: f32, uy: f32, uz: f32) -> (i32, i32, f32, f32) {
+        let ra = crate::angle::atan2(uy, ux);
+        let dec = crate::angle::asin(uz);
         // u = 0.25 − α/2π in [−0.25, 0.75] for α in [−π, π]; no divisions
         // or remainders on this hot path.
         let mut fu = 0.25 - ra * (0.5 / std::f32::consts::PI);
@@ -170,16 +182,24 @@ impl MilkyWayMap {
         // floor(x) for x ≥ −1 (x ≥ −0.5 here) and floor(y) for y ≥ 0 by
         // truncation: exact, without a call to the C library's `floorf`
         // (no SSE4.1 rounding instruction in the baseline target).
-        let x0 = if x < 0.0 { -1.0 } else { (x as usize) as f32 };
-        let y0 = (y as usize) as f32;
+        // (x and y are below the map's size: `i32` holds them.)
+        let x0 = if x < 0.0 { -1.0 } else { (x as i32) as f32 };
+        let y0 = (y as i32) as f32;
         let (tx, ty) = (x - x0, y - y0);
+        let last = self.w as i32 - 1;
         let xi0 = if x0 < 0.0 {
-            self.w - 1
+            last
         } else {
-            (x0 as usize).min(self.w - 1)
+            (x0 as i32).min(last)
         };
-        let xi1 = if xi0 + 1 == self.w { 0 } else { xi0 + 1 };
-        let yi0 = y0 as usize;
+        (xi0, y0 as i32, tx, ty)
+    }
+
+    /// The bilinear interpolation of the [`Self::taps`].
+    #[inline(always)]
+    pub(crate) fn bilinear(&self, (xi0, yi0, tx, ty): (i32, i32, f32, f32)) -> [f32; 3] {
+        let (xi0, yi0) = (xi0.max(0) as usize, yi0.max(0) as usize);
+        let xi1 = if xi0 + 1 >= self.w { 0 } else { xi0 + 1 };
         let yi1 = (yi0 + 1).min(self.h - 1);
         let t = |xi: usize, yi: usize| self.data[yi * self.w + xi];
         let (a, b, c, d) = (t(xi0, yi0), t(xi1, yi0), t(xi0, yi1), t(xi1, yi1));
@@ -203,6 +223,8 @@ pub struct NightBackground {
     floor: [f32; 3],
     /// sin and cos of [`OBLIQUITY_J2000`], once per frame.
     obliquity_sin_cos: (f32, f32),
+    /// The refraction taken off low altitudes.
+    unrefraction: &'static Unrefraction,
 }
 
 fn scaled(rgb: [f32; 3], s10: f64) -> [f32; 3] {
@@ -226,6 +248,7 @@ impl NightBackground {
             zodiacal: scaled(colour_from_bv(0.65), 1.0),
             floor: scaled(colour_from_bv(0.8), STARLIGHT_FLOOR_S10),
             obliquity_sin_cos: OBLIQUITY_J2000.sin_cos(),
+            unrefraction: Unrefraction::get(),
         }
     }
 
@@ -255,13 +278,19 @@ impl NightBackground {
             return [0.0; 3];
         }
         // Low down, look up the sky where refraction brings it from (Bennett,
-        // Meeus eq. 16.3; 5′ at 10°, 29′ at the horizon), as for the stars.
-        let d_true = if d.z < 0.18 { unrefracted(d) } else { d };
-        let u = self.enu_to_icrs * d_true;
+        // Meeus eq. 16.3; 5′ at 10°, 29′ at the horizon), as for the stars
+        // ([`Unrefraction`]).
+        let u = self.icrs(d);
         let mw = self.map.map_or([0.0; 3], |m| m.radiance(u));
         let (se, ce) = self.obliquity_sin_cos;
         let zl = zodiacal_s10((-se * u.y + ce * u.z).clamp(-1.0, 1.0));
-        let ag = van_rhijn(d.z);
+        self.combine(mw, zl, van_rhijn(d.z))
+    }
+
+    /// The map's light `mw` plus the floor, the zodiacal light of `zl` S10
+    /// and the airglow × the van Rhijn factor `ag`.
+    #[inline(always)]
+    fn combine(&self, mw: [f32; 3], zl: f32, ag: f32) -> [f32; 3] {
         let mut out = [0.0; 3];
         for k in 0..3 {
             out[k] = mw[k] + self.floor[k] + self.zodiacal[k] * zl + self.airglow[k] * ag;

@@ -53,6 +53,13 @@ pub enum SkipReason {
     /// Hidden behind a sky texture that replaces the physical sky
     /// (`sky_texture.blend` 1, the pass not in `sky_texture.keep`).
     ReplacedByTexture,
+    /// Hidden by an overcast sky: the cloud layers keep at most this
+    /// fraction of the light in every sampled direction of the view
+    /// ([`crate::frame::overcast`]).
+    Overcast {
+        /// The largest transmittance found.
+        max_transmittance: f32,
+    },
 }
 
 /// Why a night pass is invisible at the frame's exposure
@@ -176,6 +183,10 @@ impl std::fmt::Display for SkipReason {
             SkipReason::ReplacedByTexture => {
                 f.write_str("replaced by the sky texture (blend 1; not in sky_texture.keep)")
             }
+            SkipReason::Overcast { max_transmittance } => write!(
+                f,
+                "hidden by an overcast sky: the clouds keep at most {max_transmittance:.1e} of the light behind them in every sampled direction of the view"
+            ),
         }
     }
 }

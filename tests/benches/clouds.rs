@@ -1,12 +1,15 @@
 //! The cloud models' cost per ray (`cargo bench -p himmel-tests --bench
 //! clouds`): the low layer's march (default cumulus at coverage 0.6, 64
-//! steps per slab, 6 light steps, 6 octaves) and the high layer's
-//! shading, over a fan of 256 view rays above 20° altitude.
+//! steps per slab, 6 light steps) with each multiple-scattering model
+//! (the diffusion solution, two light marches per step; Wrenninge's six
+//! octaves, one) and the high layer's shading, over a fan of 256 view rays
+//! above 20° altitude.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use himmel_skymodel::clouds::{
-    march_low, shade_high, CloudLight, HighField, LowField, MarchSettings, Shell, OCTAVES,
+    march_low, shade_high, CloudLight, HighField, LowField, MarchSettings, MultipleScattering,
+    Shell, DIFFUSION, OCTAVES,
 };
 use himmel_skymodel::scene::{HighCloudSpec, LowCloudSpec};
 
@@ -43,19 +46,26 @@ fn bench(c: &mut Criterion) {
         dir: Vec3::new(0.3, -0.5, 0.81).normalize(),
         irradiance_rgb: [1.0e5; 3],
     }];
-    let settings = MarchSettings {
-        steps: 64,
-        light_steps: 6,
-        octaves: OCTAVES,
-    };
     let rays = rays();
-    c.bench_function("clouds/low_march_256_rays", |b| {
-        b.iter(|| {
-            rays.iter()
-                .map(|&v| march_low(&low, &shell, v, &lights, [1.0e3; 3], &settings).transmittance)
-                .sum::<f32>()
-        })
-    });
+    for (name, scattering) in [
+        ("diffusion", MultipleScattering::Diffusion(DIFFUSION)),
+        ("octaves", MultipleScattering::Octaves(OCTAVES)),
+    ] {
+        let settings = MarchSettings {
+            steps: 64,
+            light_steps: 6,
+            scattering,
+        };
+        c.bench_function(&format!("clouds/low_march_256_rays_{name}"), |b| {
+            b.iter(|| {
+                rays.iter()
+                    .map(|&v| {
+                        march_low(&low, &shell, v, &lights, [1.0e3; 3], &settings).transmittance
+                    })
+                    .sum::<f32>()
+            })
+        });
+    }
     c.bench_function("clouds/high_shade_256_rays", |b| {
         b.iter(|| {
             rays.iter()

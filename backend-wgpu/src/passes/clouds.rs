@@ -18,7 +18,8 @@
 
 use bytemuck::{Pod, Zeroable};
 use himmel_skymodel::clouds::field::{
-    ProfileShape, HIGH_OCTAVES, LOW_OCTAVES, NOISE_CONTRAST, NOISE_PERIOD_CELLS,
+    ProfileShape, CLOSE_DECK, CLOSE_FROM, HIGH_OCTAVES, LOW_OCTAVES, NOISE_CONTRAST,
+    NOISE_PERIOD_CELLS,
 };
 use himmel_skymodel::clouds::march::MAX_MARCH_KM;
 use himmel_skymodel::clouds::noise::OCTAVE_SHIFT;
@@ -50,7 +51,7 @@ pub const CLOUDS_WGSL: &str = concat!(
 
 /// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
 /// cloud fields, the model's constants, the lights and the aerial
-/// perspective's inputs. 384 bytes.
+/// perspective's inputs. 400 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CloudUniforms {
@@ -164,9 +165,15 @@ pub struct CloudUniforms {
     pub air_moon: [f32; 3],
     /// Its irradiance scale (0: no moonlit air).
     pub air_moon_scale: f32,
+    /// `field::CLOSE_FROM`.
+    pub close_from: f32,
+    /// `field::CLOSE_DECK`.
+    pub close_deck: f32,
+    /// Padding.
+    pub _pad2: [f32; 2],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 384);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 400);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -214,6 +221,8 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
         clear: CLEAR,
         ambient: c.ambient_rgb,
         air_steps: AERIAL_STEPS as u32,
+        close_from: CLOSE_FROM,
+        close_deck: CLOSE_DECK,
         ..Zeroable::zeroed()
     };
     if let Some(f) = &c.low {
@@ -435,6 +444,9 @@ mod tests {
                 air_sun_scale,
                 air_moon,
                 air_moon_scale,
+                close_from,
+                close_deck,
+                _pad2,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);

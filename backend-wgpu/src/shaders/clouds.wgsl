@@ -95,6 +95,10 @@ struct Clouds {
     air_sun_scale: f32,
     air_moon: vec3<f32>,
     air_moon_scale: f32,
+    // field.rs `CLOSE_FROM`, `CLOSE_DECK` (the deck closing at high coverage)
+    close_from: f32,
+    close_deck: f32,
+    _pad2: vec2<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;
@@ -187,6 +191,11 @@ fn contrast(n: f32) -> f32 {
     return clamp((n - 0.5) * clouds.noise_contrast + 0.5, 0.0, 1.0);
 }
 
+// field.rs `close`.
+fn close(n: f32, coverage: f32) -> f32 {
+    return n + (1.0 - n) * clouds.close_deck * hermite(clouds.close_from, 1.0, coverage);
+}
+
 // field.rs `cover`.
 fn cover(v: f32, coverage: f32) -> f32 {
     return clamp((v - (1.0 - coverage)) / max(coverage, 1e-3), 0.0, 1.0);
@@ -206,7 +215,7 @@ fn low_density(xy: vec2<f32>, h_km: f32) -> f32 {
     let q = (xy - clouds.low_offset_km) * clouds.low_inv_scale;
     let p = vec3<f32>(q.x, q.y, h_km * clouds.low_inv_scale);
     let n = contrast(fbm(p, clouds.low_octaves, clouds.noise_period_cells, clouds.low_seed));
-    return cover(n * prof, clouds.low_coverage);
+    return cover(close(n, clouds.low_coverage) * prof, clouds.low_coverage);
 }
 
 // field.rs `LowField::extinction`, km⁻¹.
@@ -221,7 +230,7 @@ fn high_optical_depth(xy: vec2<f32>) -> f32 {
     let a = dot(p, al) * clouds.high_inv_scale_along;
     let b = (p.x * al.y - p.y * al.x) * clouds.high_inv_scale_across;
     let n = contrast(fbm(vec3<f32>(a, b, 0.5), clouds.high_octaves, clouds.noise_period_cells, clouds.high_seed));
-    return clouds.high_optical_depth * cover(n, clouds.high_coverage);
+    return clouds.high_optical_depth * cover(close(n, clouds.high_coverage), clouds.high_coverage);
 }
 
 // ---------------------------------------------------------------------------

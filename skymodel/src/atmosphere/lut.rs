@@ -566,17 +566,56 @@ impl SkyView {
         // every azimuth.
         let mu = Self::texel_direction(0.5, v, w, h).z;
         let march = ViewMarch::new(luts, r0, mu, cfg.sky_view_steps);
+        let cos_theta: Vec<f32> = (0..w)
+            .map(|i| Self::texel_direction((i as f32 + 0.5) / w as f32, v, w, h).dot(sun))
+            .collect();
+        let texel = |cos_theta: f32| {
+            let f = march.transfer(luts, r0, cos_theta, sun.z);
+            let rgb = crate::spectrum::clip_to_gamut(weights.to_rgb(&f));
+            [
+                rgb[0] * input.irradiance_scale,
+                rgb[1] * input.irradiance_scale,
+                rgb[2] * input.irradiance_scale,
+            ]
+        };
+        // A row in the dark (the sunlit sky of a night): every texel's
+        // transfer is +0, so every texel is the first one's value.
+        let max = cos_theta.iter().fold(f32::NEG_INFINITY, |m, &c| m.max(c));
+        if cos_theta.iter().all(|c| c.is_finite()) && march.dark(luts, r0, max, sun.z) {
+            return vec![texel(max); w];
+        }
+        cos_theta.into_iter().map(texel).collect()
+    }
+
+    /// [`Self::row`] texel by texel, without the dark row's shortcut (the
+    /// reference of test `dark_rows_equal_their_march`).
+    #[cfg(test)]
+    pub(crate) fn row_marched(
+        luts: &AtmosphereLuts,
+        input: &SkyViewInput,
+        j: usize,
+    ) -> Vec<[f32; 3]> {
+        let cfg = &luts.config;
+        let (w, h) = (cfg.sky_view_w, cfg.sky_view_h);
+        let weights = BandWeights::solar();
+        let r0 = luts.medium.bottom
+            + input
+                .observer_altitude_km
+                .clamp(0.0, luts.medium.top - luts.medium.bottom - 0.01);
+        let sun = Self::sun_local(input.sun_sin_elevation);
+        let v = (j as f32 + 0.5) / h as f32;
+        let march = ViewMarch::new(
+            luts,
+            r0,
+            Self::texel_direction(0.5, v, w, h).z,
+            cfg.sky_view_steps,
+        );
         (0..w)
             .map(|i| {
-                let u = (i as f32 + 0.5) / w as f32;
-                let d = Self::texel_direction(u, v, w, h);
+                let d = Self::texel_direction((i as f32 + 0.5) / w as f32, v, w, h);
                 let f = march.transfer(luts, r0, d.dot(sun), sun.z);
                 let rgb = crate::spectrum::clip_to_gamut(weights.to_rgb(&f));
-                [
-                    rgb[0] * input.irradiance_scale,
-                    rgb[1] * input.irradiance_scale,
-                    rgb[2] * input.irradiance_scale,
-                ]
+                rgb.map(|c| c * input.irradiance_scale)
             })
             .collect()
     }

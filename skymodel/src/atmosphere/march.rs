@@ -5,6 +5,7 @@
 
 use glam::Vec3;
 
+use super::at_radius::AtRadius;
 use super::lut::{integrate_segment, AtmosphereLuts};
 use super::medium::{cornette_shanks_phase, rayleigh_phase, safe_sqrt};
 use crate::spectrum::Spectrum;
@@ -51,11 +52,15 @@ impl ScatterPhases {
     #[inline]
     fn lit(&self, luts: &AtmosphereLuts, c: &MediumAt, mus: f32) -> Spectrum {
         let ScatterPhases { pr, pm, pm_flat } = *self;
-        let tsun = luts.scattering_sun_transmittance(c.r, mus);
-        let psi = luts.multiscatter_at(c.r, mus);
+        if c.at.dark(luts, mus) {
+            // No beam and no Ψ_ms: every term below is +0.
+            return Spectrum::ZERO;
+        }
+        let tsun = c.at.scattering_sun_transmittance(luts, mus);
+        let psi = c.at.multiscatter(luts, mus);
         let mut src = (c.sr * pr + c.sm * pm_flat) * tsun + c.ms * psi;
         if pm > pm_flat {
-            src += c.sm * (pm - pm_flat) * luts.sun_transmittance(c.r, mus);
+            src += c.sm * (pm - pm_flat) * c.at.sun_transmittance(luts, mus);
         }
         src
     }
@@ -67,6 +72,8 @@ impl ScatterPhases {
 #[derive(Debug, Clone, Copy)]
 pub(super) struct MediumAt {
     r: f32,
+    /// The radius-only parts of the Sun's light there.
+    at: AtRadius,
     ext: Spectrum,
     sr: Spectrum,
     sm: Spectrum,
@@ -82,6 +89,7 @@ impl MediumAt {
         let (sr, sm) = m.scattering(dens);
         MediumAt {
             r,
+            at: AtRadius::new(luts, r),
             ext: m.extinction(dens) - fwd * dens.mie,
             sr,
             sm,
@@ -136,6 +144,29 @@ impl ViewMarch {
             steps: out,
             ground: ground.then(|| (t_max, (pos + view * t_max).length(), tv)),
         }
+    }
+
+    /// Whether [`Self::transfer`] is +0 in every band for every Sun at
+    /// angle `cos_theta ≤ cos_theta_max` from the view with local zenith
+    /// cosine `sun_z`: every step's source is dark ([`AtRadius::dark`]) and
+    /// the Sun is below the ground point's horizon at the greatest angle.
+    /// Both tests are monotone in the Sun's zenith cosine at a point,
+    /// which grows with `cos_theta` (t ≥ 0, r > 0), so the greatest angle
+    /// decides for all.
+    pub(super) fn dark(
+        &self,
+        luts: &AtmosphereLuts,
+        r0: f32,
+        cos_theta_max: f32,
+        sun_z: f32,
+    ) -> bool {
+        let mu_sun = |t: f32, r: f32| (r0 * sun_z + t * cos_theta_max) / r;
+        self.steps
+            .iter()
+            .all(|(t, c, _)| c.at.dark(luts, mu_sun(*t, c.r)))
+            && self.ground.map_or(true, |(t_max, rg, _)| {
+                luts.medium.sun_visibility(rg, mu_sun(t_max, rg)) <= 0.0
+            })
     }
 
     /// The radiance transfer factor of the ray for a Sun at angle

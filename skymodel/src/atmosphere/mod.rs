@@ -17,6 +17,7 @@
 //! twilight. The accuracy table in the README measures what this costs
 //! against the brute-force reference.
 
+mod at_radius;
 pub mod lut;
 mod march;
 pub mod medium;

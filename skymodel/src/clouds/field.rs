@@ -14,7 +14,9 @@
 //! d = clamp((n · profile(h) − (1 − c)) / c, 0, 1),   σ_t = σ_max · d
 //! ```
 //!
-//! With c = 1 every point is cloud (d = n · profile); as c falls the cells
+//! With c = 1 every point is cloud (d = n · profile, the noise lifted to
+//! n ≥ ½ by [`close`] from c = 0.85 on: an overcast deck has no gap); as c
+//! falls the cells
 //! shrink to their cores and the profile rounds their tops. The wind moves
 //! the noise; the offset is wrapped by the noise's spatial period, so an
 //! instant decades from J2000 keeps full f32 precision.
@@ -73,6 +75,20 @@ impl ProfileShape {
 #[inline]
 fn contrast(n: f32) -> f32 {
     ((n - 0.5) * NOISE_CONTRAST + 0.5).clamp(0.0, 1.0)
+}
+
+/// From this coverage on the deck closes ([`close`]).
+pub const CLOSE_FROM: f32 = 0.85;
+/// How far towards 1 the noise is lifted at coverage 1 ([`close`]).
+pub const CLOSE_DECK: f32 = 0.5;
+
+/// Closes the deck as the coverage approaches 1: the noise `n` is lifted
+/// towards 1 by [`CLOSE_DECK`] × smoothstep([`CLOSE_FROM`], 1, coverage),
+/// so that at coverage 1 no column is empty (n ≥ ½: an overcast sky with
+/// texture) while every coverage up to 0.85 keeps its field unchanged.
+#[inline]
+pub fn close(n: f32, coverage: f32) -> f32 {
+    n + (1.0 - n) * CLOSE_DECK * smoothstep(CLOSE_FROM, 1.0, coverage)
 }
 
 /// Coverage remap: the part of `v` above 1 − `coverage`, rescaled to [0, 1].
@@ -155,7 +171,7 @@ impl LowField {
         let q = (xy - self.offset_km) * self.inv_scale;
         let p = Vec3::new(q.x, q.y, h_km * self.inv_scale);
         let n = contrast(fbm(p, LOW_OCTAVES, NOISE_PERIOD_CELLS, self.seed));
-        cover(n * prof, self.coverage)
+        cover(close(n, self.coverage) * prof, self.coverage)
     }
 
     /// Extinction coefficient σ_t, km⁻¹ (the single-scattering albedo of
@@ -250,7 +266,7 @@ impl HighField {
             NOISE_PERIOD_CELLS,
             self.seed,
         ));
-        self.optical_depth * cover(n, self.coverage)
+        self.optical_depth * cover(close(n, self.coverage), self.coverage)
     }
 }
 

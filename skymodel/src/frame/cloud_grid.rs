@@ -2,52 +2,58 @@
 //!
 //! The view ray's march through the low layer ([`crate::clouds::march_low`])
 //! is the frame's most expensive per-pixel work: tens of steps, each with
-//! two short marches towards and away from each light. Inside a cloud and
-//! in clear sky the result varies slowly from pixel to pixel; it changes
-//! fast only at the cloud's edges. [`LowCloudGrid`] marches every N-th
-//! pixel of every N-th row (and the last column and row), and a pixel
-//! between four grid pixels is
+//! short marches towards and away from each light. Inside a cloud and in
+//! clear sky its result varies slowly from pixel to pixel; it changes fast
+//! only at the cloud's edges. [`LowCloudGrid`] marches in two levels:
 //!
-//! * clear when all four are clear (no cloud on any of their rays),
-//! * interpolated (bilinearly: radiance, transmittance, distance) when the
-//!   four agree — transmittances within [`AGREE_TRANSMITTANCE`] of each
-//!   other and luminances within [`AGREE_LUMINANCE`] of their largest,
-//! * marched otherwise (edges, the cloud's fine structure).
+//! 1. every N-th pixel of every N-th row (and the last column and row):
+//!    the coarse grid, one pixel in N²;
+//! 2. in each coarse cell whose four corners disagree — their
+//!    transmittances spread by more than [`AGREE_TRANSMITTANCE`] — the
+//!    midpoints of its edges and its centre: the cell's 2 × 2 fine cells.
 //!
-//! With N = 4 about one pixel in 16 is marched on the grid; the edges add
-//! what the sky's cloud structure asks for. The cost and the difference
-//! from the full march (FLIP) are measured by `tests/tests/cloud_amortised.rs`
-//! and the `clouds` benchmark. Each frame is marched for its own instant,
-//! so nothing lags behind a moving Sun and nothing flickers from frame to
-//! frame that the full march does not.
+//! A pixel is then clear when the corners of its cell are all clear,
+//! interpolated bilinearly (radiance, transmittance, distance, and the
+//! aerial perspective in front, weighted by extinction) from the
+//! corners of its coarse cell when they agree, else from the corners of
+//! its fine cell when those agree, else marched (the cloud's sharp edges).
+//!
+//! The luminance is not a criterion: inside a dense cloud the march's own
+//! sampling makes neighbouring rays differ by factors of 2–3 in radiance
+//! (a step is about one mean free path long), which interpolation smooths
+//! rather than loses. The cost (the view rays marched) and the difference
+//! from the full march (FLIP) are measured by
+//! `tests/tests/cloud_amortised.rs`. Each frame is marched for its own
+//! instant: nothing lags behind a moving Sun, and nothing changes from
+//! frame to frame that the full march does not change.
 
+use std::collections::HashMap;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 use glam::Vec3;
 use rayon::prelude::*;
 
-use super::clouds::CloudFrame;
+use super::clouds::{CloudFrame, SeenHit};
 use super::pixels::PixelDirections;
 use crate::clouds::CloudHit;
-use crate::spectrum::luminance;
 
-/// Largest spread of the four grid pixels' transmittances for which a
-/// pixel between them is interpolated.
-pub const AGREE_TRANSMITTANCE: f32 = 0.04;
-/// Largest spread of the four grid pixels' luminances, as a fraction of
-/// the largest, for which a pixel between them is interpolated.
-pub const AGREE_LUMINANCE: f32 = 0.06;
+/// Largest spread of a cell's corner transmittances for which the pixels
+/// inside it are interpolated.
+pub const AGREE_TRANSMITTANCE: f32 = 0.3;
 
 /// A transmittance this close to 1 is clear sky.
 const CLEAR: f32 = 1e-5;
 
-/// The low layer marched on a grid of an image's pixels.
+/// The low layer marched on a two-level grid of an image's pixels.
 #[derive(Debug)]
 pub struct LowCloudGrid {
+    stride: usize,
     xs: Vec<usize>,
     ys: Vec<usize>,
     /// Row-major over (ys, xs); `None` where the pixel shows no scene.
-    hits: Vec<Option<CloudHit>>,
+    hits: Vec<Option<SeenHit>>,
+    /// The fine level: hits at pixel (x, y) of the refined cells.
+    fine: HashMap<(usize, usize), Option<SeenHit>>,
     /// Pixels marched outside the grid (edges).
     marched: AtomicUsize,
 }
@@ -62,108 +68,204 @@ fn nodes(n: usize, stride: usize) -> Vec<usize> {
     v
 }
 
-/// The interval [v[i], v[i + 1]] that holds `x` and the fraction of the
-/// way through it (`None` with fewer than two nodes).
-fn cell(v: &[usize], stride: usize, x: usize) -> Option<(usize, f32)> {
-    if v.len() < 2 {
-        return None;
+/// The interval [v[i], v[i + 1]] that holds `x` (`None` with fewer than
+/// two nodes).
+fn cell(v: &[usize], stride: usize, x: usize) -> Option<usize> {
+    (v.len() >= 2).then(|| (x / stride.max(1)).min(v.len() - 2))
+}
+
+/// Where `x` lies in [a, b]: 0 at a, 1 at b.
+fn frac(x: usize, a: usize, b: usize) -> f32 {
+    x.saturating_sub(a) as f32 / (b - a).max(1) as f32
+}
+
+/// Whether four corner hits agree: all clear, or transmittances within
+/// [`AGREE_TRANSMITTANCE`].
+fn agree(q: &[SeenHit; 4]) -> bool {
+    let (lo, hi) = q.iter().fold((f32::MAX, f32::MIN), |(a, b), h| {
+        (a.min(h.hit.transmittance), b.max(h.hit.transmittance))
+    });
+    hi - lo <= AGREE_TRANSMITTANCE
+}
+
+/// The bilinear interpolation of corners `q` (x0y0, x1y0, x0y1, x1y1) at
+/// fractions (fx, fy); clear when all four are. The air in front is the
+/// corners' air weighted by their extinction (1 − T) as well: a clear
+/// corner has no air in front of a cloud to give.
+fn bilinear(q: &[SeenHit; 4], fx: f32, fy: f32) -> SeenHit {
+    let clear = SeenHit {
+        hit: CloudHit::CLEAR,
+        air_radiance: [0.0; 3],
+        air_transmittance: [1.0; 3],
+    };
+    if q.iter().all(|h| h.hit.transmittance >= 1.0 - CLEAR) {
+        return clear;
     }
-    let i = (x / stride.max(1)).min(v.len() - 2);
-    let (a, b) = (v[i], v[i + 1]);
-    Some((i, (x.saturating_sub(a)) as f32 / (b - a).max(1) as f32))
+    let wts = [
+        (1.0 - fx) * (1.0 - fy),
+        fx * (1.0 - fy),
+        (1.0 - fx) * fy,
+        fx * fy,
+    ];
+    let mut out = SeenHit {
+        hit: CloudHit {
+            radiance: [0.0; 3],
+            transmittance: 0.0,
+            distance_km: 0.0,
+        },
+        air_radiance: [0.0; 3],
+        air_transmittance: [0.0; 3],
+    };
+    let mut ext = 0.0;
+    for (h, w) in q.iter().zip(wts) {
+        for c in 0..3 {
+            out.hit.radiance[c] += w * h.hit.radiance[c];
+        }
+        out.hit.transmittance += w * h.hit.transmittance;
+        out.hit.distance_km += w * h.hit.distance_km;
+        let we = w * (1.0 - h.hit.transmittance);
+        for c in 0..3 {
+            out.air_radiance[c] += we * h.air_radiance[c];
+            out.air_transmittance[c] += we * h.air_transmittance[c];
+        }
+        ext += we;
+    }
+    if ext > 0.0 {
+        for c in 0..3 {
+            out.air_radiance[c] /= ext;
+            out.air_transmittance[c] /= ext;
+        }
+    } else {
+        (out.air_radiance, out.air_transmittance) = (clear.air_radiance, clear.air_transmittance);
+    }
+    out
 }
 
 impl LowCloudGrid {
-    /// Marches `frame`'s low layer at the grid pixels of `dirs`' image,
-    /// every `stride`-th pixel (on all cores).
+    /// Marches `frame`'s low layer at the two-level grid of `dirs`' image,
+    /// coarse stride `stride` (on all cores).
     pub fn build(frame: &CloudFrame, dirs: &PixelDirections, stride: usize) -> LowCloudGrid {
-        let stride = stride.max(1);
+        let stride = stride.max(2);
         let (w, h) = dirs.size();
         let (xs, ys) = (nodes(w, stride), nodes(h, stride));
-        let hits = ys
+        let hits: Vec<Option<SeenHit>> = ys
             .par_iter()
             .flat_map_iter(|&y| {
                 xs.iter()
-                    .map(move |&x| dirs.dir(x, y).map(|v| frame.low_hit(v)))
+                    .map(move |&x| dirs.dir(x, y).map(|v| frame.low_seen(v)))
                     .collect::<Vec<_>>()
             })
             .collect();
-        LowCloudGrid {
+        let mut grid = LowCloudGrid {
+            stride,
             xs,
             ys,
             hits,
+            fine: HashMap::new(),
             marched: AtomicUsize::new(0),
+        };
+        // The fine level: edge midpoints and centres of disagreeing cells.
+        let mut want: Vec<(usize, usize)> = Vec::new();
+        let (nx, ny) = (grid.xs.len(), grid.ys.len());
+        for j in 0..ny.saturating_sub(1) {
+            for i in 0..nx.saturating_sub(1) {
+                if grid.corners(i, j).is_some_and(|q| agree(&q)) {
+                    continue;
+                }
+                let (x0, x1) = (grid.xs[i], grid.xs[i + 1]);
+                let (y0, y1) = (grid.ys[j], grid.ys[j + 1]);
+                let (xm, ym) = ((x0 + x1) / 2, (y0 + y1) / 2);
+                want.extend([(xm, y0), (x0, ym), (xm, ym), (x1, ym), (xm, y1)]);
+            }
+        }
+        want.sort_unstable();
+        want.dedup();
+        grid.fine = want
+            .into_par_iter()
+            .map(|(x, y)| ((x, y), dirs.dir(x, y).map(|v| frame.low_seen(v))))
+            .collect();
+        grid
+    }
+
+    /// The coarse grid's hit at node (i, j).
+    fn node(&self, i: usize, j: usize) -> Option<SeenHit> {
+        self.hits.get(j * self.xs.len() + i).copied().flatten()
+    }
+
+    /// The hit at pixel (x, y) if the grid marched it.
+    fn at(&self, x: usize, y: usize) -> Option<SeenHit> {
+        let (i, j) = (
+            self.xs.binary_search(&x).ok(),
+            self.ys.binary_search(&y).ok(),
+        );
+        match (i, j) {
+            (Some(i), Some(j)) => self.node(i, j),
+            _ => self.fine.get(&(x, y)).copied().flatten(),
         }
     }
 
-    /// The grid's stride (its first interval).
-    fn stride(&self) -> usize {
-        self.xs.get(1).map_or(1, |&x| x.max(1))
+    /// The four corners of coarse cell (i, j), when all show the scene.
+    fn corners(&self, i: usize, j: usize) -> Option<[SeenHit; 4]> {
+        Some([
+            self.node(i, j)?,
+            self.node(i + 1, j)?,
+            self.node(i, j + 1)?,
+            self.node(i + 1, j + 1)?,
+        ])
     }
 
-    /// Grid pixels marched.
+    /// View rays the grid marched (both levels).
     pub fn grid_pixels(&self) -> usize {
         self.hits.iter().filter(|h| h.is_some()).count()
+            + self.fine.values().filter(|h| h.is_some()).count()
     }
 
-    /// Pixels marched because their grid pixels disagreed.
+    /// Pixels marched because their cell's corners disagreed.
     pub fn edge_pixels(&self) -> usize {
         self.marched.load(Ordering::Relaxed)
     }
 
     /// The low layer at pixel (`x`, `y`) whose direction is `view`: from the
-    /// grid where its four grid pixels agree, else marched.
-    pub fn hit(&self, frame: &CloudFrame, x: usize, y: usize, view: Vec3) -> CloudHit {
+    /// grid where the corners of its cell agree, else marched.
+    pub fn hit(&self, frame: &CloudFrame, x: usize, y: usize, view: Vec3) -> SeenHit {
         match self.interpolate(x, y) {
             Some(hit) => hit,
             None => {
                 self.marched.fetch_add(1, Ordering::Relaxed);
-                frame.low_hit(view)
+                frame.low_seen(view)
             }
         }
     }
 
-    /// The bilinear interpolation of the four grid pixels around (x, y)
-    /// when they agree.
-    fn interpolate(&self, x: usize, y: usize) -> Option<CloudHit> {
-        let s = self.stride();
-        let (i, fx) = cell(&self.xs, s, x)?;
-        let (j, fy) = cell(&self.ys, s, y)?;
-        let n = self.xs.len();
-        let at = |ii: usize, jj: usize| self.hits.get(jj * n + ii).copied().flatten();
-        let q = [at(i, j)?, at(i + 1, j)?, at(i, j + 1)?, at(i + 1, j + 1)?];
-        if q.iter().all(|h| h.transmittance >= 1.0 - CLEAR) {
-            return Some(CloudHit::CLEAR);
+    /// The pixel from its coarse cell, or its fine cell, when their
+    /// corners agree.
+    fn interpolate(&self, x: usize, y: usize) -> Option<SeenHit> {
+        let i = cell(&self.xs, self.stride, x)?;
+        let j = cell(&self.ys, self.stride, y)?;
+        let (x0, x1) = (self.xs[i], self.xs[i + 1]);
+        let (y0, y1) = (self.ys[j], self.ys[j + 1]);
+        let q = self.corners(i, j)?;
+        if agree(&q) {
+            // A grid pixel itself gets its own value (weights 1, 0, 0, 0).
+            return Some(bilinear(&q, frac(x, x0, x1), frac(y, y0, y1)));
         }
-        let (t_lo, t_hi) = q.iter().fold((f32::MAX, f32::MIN), |(a, b), h| {
-            (a.min(h.transmittance), b.max(h.transmittance))
-        });
-        let ys = q.map(|h| luminance(h.radiance));
-        let (y_lo, y_hi) = ys
-            .iter()
-            .fold((f32::MAX, f32::MIN), |(a, b), &v| (a.min(v), b.max(v)));
-        if t_hi - t_lo > AGREE_TRANSMITTANCE || y_hi - y_lo > AGREE_LUMINANCE * y_hi.max(1e-30) {
-            return None;
-        }
-        let wts = [
-            (1.0 - fx) * (1.0 - fy),
-            fx * (1.0 - fy),
-            (1.0 - fx) * fy,
-            fx * fy,
+        let (xm, ym) = ((x0 + x1) / 2, (y0 + y1) / 2);
+        let (xa, xb) = if x <= xm { (x0, xm) } else { (xm, x1) };
+        let (ya, yb) = if y <= ym { (y0, ym) } else { (ym, y1) };
+        let f = [
+            self.at(xa, ya)?,
+            self.at(xb, ya)?,
+            self.at(xa, yb)?,
+            self.at(xb, yb)?,
         ];
-        let mut out = CloudHit {
-            radiance: [0.0; 3],
-            transmittance: 0.0,
-            distance_km: 0.0,
-        };
-        for (h, w) in q.iter().zip(wts) {
-            for c in 0..3 {
-                out.radiance[c] += w * h.radiance[c];
-            }
-            out.transmittance += w * h.transmittance;
-            out.distance_km += w * h.distance_km;
+        if agree(&f) {
+            return Some(bilinear(&f, frac(x, xa, xb), frac(y, ya, yb)));
         }
-        Some(out)
+        // A pixel the grid marched is not marched again.
+        [(xa, ya), (xb, ya), (xa, yb), (xb, yb)]
+            .iter()
+            .zip(f)
+            .find_map(|(&c, h)| (c == (x, y)).then_some(h))
     }
 }
 
@@ -178,8 +280,9 @@ mod tests {
         assert_eq!(nodes(1, 4), vec![0]);
         let v = nodes(10, 4);
         for x in 0..10 {
-            let (i, f) = cell(&v, 4, x).unwrap();
+            let i = cell(&v, 4, x).unwrap();
             assert!(v[i] <= x && x <= v[i + 1], "{x}: {i}");
+            let f = frac(x, v[i], v[i + 1]);
             assert!((0.0..=1.0).contains(&f));
             let back = v[i] as f32 + f * (v[i + 1] - v[i]) as f32;
             assert!((back - x as f32).abs() < 1e-5);

@@ -50,9 +50,9 @@ use crate::spectrum::{BandWeights, Spectrum};
 use crate::state::SkyState;
 
 /// Julian date (TT) of J2000.0, the wind's epoch.
-const J2000_TT: f64 = 2_451_545.0;
+pub(crate) const J2000_TT: f64 = 2_451_545.0;
 /// Earth radius without an atmosphere model, km.
-const EARTH_RADIUS_KM: f32 = 6360.0;
+pub(crate) const EARTH_RADIUS_KM: f32 = 6360.0;
 /// Below this transmittance change a layer leaves the pixel alone.
 pub const CLEAR: f32 = 1e-5;
 
@@ -62,6 +62,19 @@ pub const CLEAR: f32 = 1e-5;
 struct FrameLight {
     dir: Vec3,
     spectrum: Spectrum,
+}
+
+/// A layer's hit along a view ray with the air in front of it: the
+/// in-scattered radiance (cd/m², linear sRGB) and transmittance of the air
+/// between the camera and the hit's distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SeenHit {
+    /// The layer's radiance, transmittance and distance.
+    pub hit: CloudHit,
+    /// The air's in-scattered radiance in front of the layer.
+    pub air_radiance: [f32; 3],
+    /// The air's transmittance in front of the layer.
+    pub air_transmittance: [f32; 3],
 }
 
 /// Everything the clouds pass of one frame needs.
@@ -197,24 +210,44 @@ impl CloudFrame {
         shade_high(f, &self.shell, view, &lights, self.ambient_rgb)
     }
 
+    /// The low layer along `view` with the air in front of it.
+    pub fn low_seen(&self, view: Vec3) -> SeenHit {
+        self.seen(view, self.low_hit(view))
+    }
+
+    /// `hit` along `view` with the air in front of it (none when clear).
+    fn seen(&self, view: Vec3, hit: CloudHit) -> SeenHit {
+        let air = if hit.transmittance >= 1.0 - CLEAR {
+            ([0.0; 3], [1.0; 3])
+        } else {
+            self.air(view, hit.distance_km)
+        };
+        SeenHit {
+            hit,
+            air_radiance: air.0,
+            air_transmittance: air.1,
+        }
+    }
+
     /// `behind` (the pixel's radiance so far, cd/m²) seen through both
     /// layers along `view`, with the aerial perspective in front of each.
     pub fn composite(&self, view: Vec3, behind: [f32; 3]) -> [f32; 3] {
-        self.composite_with(view, behind, self.low_hit(view))
+        self.composite_with(view, behind, self.low_seen(view))
     }
 
-    /// [`CloudFrame::composite`] with the low layer's hit along `view`
-    /// given (from an amortised grid, [`super::LowCloudGrid`]).
-    pub fn composite_with(&self, view: Vec3, behind: [f32; 3], low: CloudHit) -> [f32; 3] {
+    /// [`CloudFrame::composite`] with the low layer along `view` given
+    /// (from an amortised grid, [`super::LowCloudGrid`]).
+    pub fn composite_with(&self, view: Vec3, behind: [f32; 3], low: SeenHit) -> [f32; 3] {
         let mut px = behind;
-        for hit in [self.high_hit(view), low] {
-            if hit.transmittance >= 1.0 - CLEAR {
+        for s in [self.seen(view, self.high_hit(view)), low] {
+            let t = s.hit.transmittance;
+            if t >= 1.0 - CLEAR {
                 continue;
             }
-            let (l_air, t_air) = self.air(view, hit.distance_km);
-            let t = hit.transmittance;
             for c in 0..3 {
-                px[c] = t * px[c] + (1.0 - t) * l_air[c] + t_air[c] * hit.radiance[c];
+                px[c] = t * px[c]
+                    + (1.0 - t) * s.air_radiance[c]
+                    + s.air_transmittance[c] * s.hit.radiance[c];
             }
         }
         px

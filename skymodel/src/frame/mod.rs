@@ -37,6 +37,7 @@ pub mod lights;
 pub mod luts;
 pub mod moon;
 pub mod night;
+pub mod overcast;
 pub mod pixels;
 pub mod sky_light;
 pub mod sun;
@@ -48,7 +49,7 @@ use std::time::Instant as Clock;
 use glam::DVec3;
 
 pub use cloud_grid::LowCloudGrid;
-pub use clouds::CloudFrame;
+pub use clouds::{CloudFrame, SeenHit};
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
 pub use luts::{LutOrigin, LutProgress, LutStore};
 pub use moon::MoonFrame;
@@ -150,9 +151,19 @@ impl FramePlan {
         if let Some(spec) = texture_spec {
             texture::arrange(&mut plan.passes, spec);
         }
-        let night_planned = [Effect::Milkyway, Effect::Stars, Effect::Planets]
-            .into_iter()
-            .any(|e| plan.runs(e));
+        let night_passes = [Effect::Milkyway, Effect::Stars, Effect::Planets];
+        if plan.runs(Effect::Clouds) && night_passes.iter().any(|&e| plan.runs(e)) {
+            if let Some(t) = overcast::overcast(scene, state, plan.luts.as_deref()) {
+                for p in plan.passes.iter_mut() {
+                    if night_passes.contains(&p.effect) {
+                        p.skip(SkipReason::Overcast {
+                            max_transmittance: t,
+                        });
+                    }
+                }
+            }
+        }
+        let night_planned = night_passes.into_iter().any(|e| plan.runs(e));
         if night_planned {
             plan.sky_light(views)?;
             let luts = plan.luts.as_deref();

@@ -15,6 +15,8 @@ use glam::Vec3;
 use crate::atmosphere::{AtmosphereLuts, SkyView, SkyViewInput};
 use crate::error::RenderError;
 
+mod band;
+
 thread_local! {
     static CPU_SKY_VIEWS: Cell<usize> = const { Cell::new(0) };
 }

@@ -1,0 +1,152 @@
+//! Amortised marching of the low cloud layer (issue 18,
+//! `clouds.low.march_stride`): against the full march of the same frame
+//! (CPU backend), the view rays marched (grid pixels plus the edge pixels
+//! whose grid pixels disagree, a count that is the pass's cost up to the
+//! per-pixel interpolation) and the FLIP difference of the two images; and
+//! a moving-Sun sequence over static clouds, whose frame-to-frame change
+//! on cloud pixels must be the full march's (no flicker of its own).
+//!
+//! `cargo test -p himmel-tests --test cloud_amortised -- --nocapture`
+//! prints the figures; the times are in the README (`--stats`).
+
+mod world_common;
+
+use himmel_cpu::CpuRenderer;
+use himmel_skymodel::atmosphere::LutConfig;
+use himmel_skymodel::frame::{CloudFrame, LowCloudGrid, PixelDirections};
+use himmel_skymodel::spectrum::luminance;
+use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
+use world_common::metrics::{flip, RgbImage};
+
+/// Cumulus over Munich on a summer morning, fisheye `n` × `n`.
+fn scene(n: u32, stride: u32, utc: &str) -> Scene {
+    let mut s = Scene::default();
+    s.time.utc = utc.into();
+    s.observer.lat_deg = 48.14;
+    s.observer.lon_deg = 11.58;
+    s.effects = vec![Effect::Atmosphere, Effect::Sun, Effect::Clouds];
+    s.camera.projection = Projection::Fisheye;
+    s.camera.width = n;
+    s.camera.height = n;
+    s.lut = LutConfig::small();
+    s.clouds.low.coverage = 0.5;
+    s.clouds.low.wind_m_s = [0.0, 0.0];
+    s.clouds.low.march_stride = stride;
+    s
+}
+
+fn render(s: &Scene) -> HdrImage {
+    let state = SkyState::at(s).expect("state");
+    CpuRenderer::new(None)
+        .render(s, &state)
+        .expect("render")
+        .image
+}
+
+fn rgb(img: &HdrImage) -> RgbImage {
+    let (w, h) = (img.width, img.height);
+    RgbImage::from_fn(w, h, |x, y| img.pixels[y * w + x])
+}
+
+/// The view rays the amortised frame marches (grid and edge pixels) and
+/// the pixels that show the sky.
+fn marched(s: &Scene) -> (usize, usize) {
+    let state = SkyState::at(s).expect("state");
+    let frame = CloudFrame::prepare(s, &state, None, None, None);
+    let dirs = PixelDirections::new(&s.camera);
+    let grid = LowCloudGrid::build(&frame, &dirs, s.clouds.low.march_stride as usize);
+    let (w, h) = dirs.size();
+    let mut sky = 0;
+    for y in 0..h {
+        for x in 0..w {
+            if let Some(v) = dirs.dir(x, y) {
+                grid.hit(&frame, x, y, v);
+                sky += 1;
+            }
+        }
+    }
+    (grid.grid_pixels() + grid.edge_pixels(), sky)
+}
+
+/// Issue 18's goal: at least 8× cheaper than the full march at FLIP ≤ 0.05
+/// between them (fisheye 640 × 640: the edge pixels are a smaller share of
+/// larger images, so the saving grows with the size).
+#[test]
+fn amortised_march_is_eight_times_cheaper_at_flip_005() {
+    let utc = "2024-06-21T08:00:00Z";
+    let n = 640;
+    let full = rgb(&render(&scene(n, 1, utc)));
+    let s = scene(n, 4, utc);
+    let amortised = rgb(&render(&s));
+    let (rays, sky) = marched(&s);
+    let saving = sky as f64 / rays as f64;
+    let f = flip(&amortised, &full, None);
+    println!(
+        "fisheye {n}², stride 4: {rays} of {sky} pixels marched ({saving:.1}× fewer), FLIP {f:.4} against the full march"
+    );
+    assert!(saving >= 8.0, "only {saving:.1}× fewer marches");
+    assert!(f <= 0.05, "FLIP {f:.4}");
+}
+
+/// The relative luminance change from `a` to `b` at each pixel the
+/// clouds change (where `a` differs from `clear` by more than 1 %).
+fn changes(a: &HdrImage, b: &HdrImage, clear: &HdrImage) -> Vec<Option<f64>> {
+    let y = |p: [f32; 3]| f64::from(luminance(p));
+    a.pixels
+        .iter()
+        .zip(&b.pixels)
+        .zip(&clear.pixels)
+        .map(|((p, q), c)| {
+            ((y(*p) - y(*c)).abs() > 0.01 * y(*c).max(1e-9))
+                .then(|| (y(*q) - y(*p)) / y(*p).max(1e-9))
+        })
+        .collect()
+}
+
+fn p99(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() * 99 / 100).copied().unwrap_or(f64::NAN)
+}
+
+/// A Sun moving 0.25° per frame over static clouds: the amortised frames
+/// change from one to the next as the full march's do — the flicker, the
+/// difference of the two frame-to-frame changes, is within 2 % (p99 over
+/// the cloud pixels). The grid's choices depend on the clouds'
+/// transmittance alone, so they stay the same while the Sun moves.
+#[test]
+fn moving_sun_over_static_clouds_does_not_flicker() {
+    let n = 192;
+    let times = [
+        "2024-06-21T08:00:00Z",
+        "2024-06-21T08:01:00Z",
+        "2024-06-21T08:02:00Z",
+        "2024-06-21T08:03:00Z",
+    ];
+    let seq = |stride: u32| -> Vec<HdrImage> {
+        times.iter().map(|t| render(&scene(n, stride, t))).collect()
+    };
+    let (full, amortised) = (seq(1), seq(4));
+    let mut clear = scene(n, 1, times[0]);
+    clear.effects.retain(|e| *e != Effect::Clouds);
+    let clear = render(&clear);
+    let (mut flicker, mut change_full, mut change_amortised) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..times.len() - 1 {
+        let f = changes(&full[k], &full[k + 1], &clear);
+        let a = changes(&amortised[k], &amortised[k + 1], &clear);
+        for (f, a) in f.into_iter().zip(a) {
+            if let (Some(f), Some(a)) = (f, a) {
+                flicker.push((a - f).abs());
+                change_full.push(f.abs());
+                change_amortised.push(a.abs());
+            }
+        }
+    }
+    let (fl, cf, ca) = (p99(flicker), p99(change_full), p99(change_amortised));
+    println!(
+        "Sun moving 0.25° per frame over static clouds: frame-to-frame change p99 {:.2} % amortised, {:.2} % full march; flicker (their difference) p99 {:.3} %",
+        ca * 100.0,
+        cf * 100.0,
+        fl * 100.0
+    );
+    assert!(fl <= 0.02, "flicker p99 {:.2} %", fl * 100.0);
+}
