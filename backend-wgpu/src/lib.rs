@@ -414,15 +414,19 @@ impl WgpuRenderer {
             for s in stats.iter_mut() {
                 match s.name.as_str() {
                     "world" => s.ms = Some(world_ms),
-                    "shadows" => {
-                        if let Some(w) = world_stats.iter().find(|w| w.name == "shadows") {
+                    "shadows" | "godrays" => {
+                        if let Some(w) = world_stats.iter().find(|w| w.name == s.name) {
                             *s = w.clone();
                         }
                     }
                     _ => {}
                 }
             }
-            stats.extend(world_stats.into_iter().filter(|s| s.name != "shadows"));
+            stats.extend(
+                world_stats
+                    .into_iter()
+                    .filter(|s| s.name != "shadows" && s.name != "godrays"),
+            );
         }
         Ok(GpuFrame {
             texture: target,
@@ -538,9 +542,9 @@ impl WgpuRenderer {
                         add(Box::new(c));
                     }
                 }
-                // The world and its shadows are drawn after the sky
-                // (world_frame.rs).
-                Effect::World | Effect::Shadows => {}
+                // The world, its shadows and light shafts are drawn after
+                // the sky (world_frame.rs).
+                Effect::World | Effect::Shadows | Effect::Godrays => {}
                 other => {
                     // `--backend auto` then falls back to the CPU.
                     return Err(RenderError::Unavailable(Unavailable::PassNotPorted(other)));

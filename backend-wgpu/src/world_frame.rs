@@ -212,6 +212,7 @@ impl WgpuRenderer {
             env_changed,
             air: air.as_ref(),
             shadows: plan.runs(Effect::Shadows),
+            godrays: plan.runs(Effect::Godrays),
         };
         stats.extend(self.lighting.render(&self.gpu, &inputs, target)?);
         Ok(stats)

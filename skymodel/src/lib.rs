@@ -86,4 +86,6 @@ pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, U
 pub use scene::{Effect, OverlaySpec, Scene, SceneError, StarParams};
 pub use state::{SkyState, SunState};
 pub use texture_spec::SkyTextureSpec;
-pub use world_spec::{FogPhase, FogSpec, LightingSpec, ShadowFilter, WorldSpec};
+pub use world_spec::{
+    FogPhase, FogSpec, GodraysMethod, GodraysSettings, LightingSpec, ShadowFilter, WorldSpec,
+};

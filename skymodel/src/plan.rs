@@ -41,6 +41,10 @@ pub enum SkipReason {
     NoWorld,
     /// Shadow maps while neither the Sun nor the Moon is above the horizon.
     NoDirectLight,
+    /// Light shafts while neither the Sun nor the Moon is above the horizon.
+    NoShaftLight,
+    /// Light shafts without fog, or in fog that does not scatter.
+    NoFogScattering,
     /// The texture pass of a scene without `sky_texture`.
     NoTexture,
     /// The clouds pass of a scene without a cloud layer (both
@@ -166,6 +170,12 @@ impl std::fmt::Display for SkipReason {
             SkipReason::NoDirectLight => f.write_str(
                 "neither the Sun nor the Moon is above the horizon: nothing casts a shadow",
             ),
+            SkipReason::NoShaftLight => f.write_str(
+                "neither the Sun nor the Moon is above the horizon: no light to scatter in the fog",
+            ),
+            SkipReason::NoFogScattering => f.write_str(
+                "no fog scatters light (the scene has no fog, or its scattering_per_m is 0)",
+            ),
             SkipReason::NoTexture => f.write_str("no sky texture in the scene"),
             SkipReason::NoClouds => f.write_str(
                 "no cloud layer in the scene (clouds.low.coverage and clouds.high.coverage are 0)",
@@ -241,6 +251,15 @@ pub fn plan(
                     {
                         Some(SkipReason::NoDirectLight)
                     }
+                    Effect::Godrays if !scene.fog.is_some_and(|f| f.scattering_per_m > 0.0) => {
+                        Some(SkipReason::NoFogScattering)
+                    }
+                    Effect::Godrays
+                        if sun.alt_refracted_deg <= 0.0
+                            && (moon.alt_refracted_deg <= 0.0 || !scene.wants(Effect::Moon)) =>
+                    {
+                        Some(SkipReason::NoShaftLight)
+                    }
                     _ => None,
                 }
             };
@@ -281,8 +300,8 @@ mod tests {
     fn reasons_read_as_before() {
         assert_eq!(SkipReason::NotRequested.to_string(), "not requested");
         assert_eq!(
-            SkipReason::NotAvailable(Effect::Godrays).to_string(),
-            "not available yet: the godrays pass arrives with a later version"
+            SkipReason::NotAvailable(Effect::Ao).to_string(),
+            "not available yet: the ao pass arrives with a later version"
         );
         assert_eq!(
             SkipReason::MoonBelowHorizon {

@@ -44,7 +44,8 @@ pub enum Effect {
     World,
     /// The Sun's and Moon's shadow maps on the world.
     Shadows,
-    /// Light shafts in the fog (a later issue).
+    /// Light shafts: the fog's single scattering of the Sun, Moon and sky
+    /// (`lighting.godrays`).
     Godrays,
     /// Screen-space ambient occlusion (a later issue).
     Ao,
@@ -120,6 +121,7 @@ impl Effect {
                 | Effect::Clouds
                 | Effect::World
                 | Effect::Shadows
+                | Effect::Godrays
         )
     }
 

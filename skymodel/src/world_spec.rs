@@ -61,6 +61,33 @@ impl Default for FogSpec {
     }
 }
 
+impl FogPhase {
+    /// The phase function p(θ), 1/sr, at cos θ = `cos_theta` between the
+    /// light's direction of travel before and after scattering (1: forward).
+    /// Each integrates to 1 over the sphere.
+    pub fn eval(self, cos_theta: f64) -> f64 {
+        use std::f64::consts::PI;
+        match self {
+            FogPhase::Rayleigh => 3.0 / (16.0 * PI) * (1.0 + cos_theta * cos_theta),
+            FogPhase::Isotropic => 1.0 / (4.0 * PI),
+            FogPhase::Hg(g) => {
+                let d = 1.0 + g * g - 2.0 * g * cos_theta;
+                (1.0 - g * g) / (4.0 * PI * d * d.sqrt())
+            }
+        }
+    }
+
+    /// The shader's code of the phase (0 isotropic, 1 Rayleigh, 2 HG) and
+    /// its asymmetry g (0 unless HG).
+    pub fn code(self) -> (u32, f64) {
+        match self {
+            FogPhase::Isotropic => (0, 0.0),
+            FogPhase::Rayleigh => (1, 0.0),
+            FogPhase::Hg(g) => (2, g),
+        }
+    }
+}
+
 impl FogSpec {
     /// The extinction coefficient σ_t = σ_s + σ_a, 1/m.
     pub fn extinction_per_m(&self) -> f64 {
@@ -200,6 +227,54 @@ impl Default for SkyLightSettings {
     }
 }
 
+/// How light shafts in the fog are drawn (`lighting.godrays.method`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum GodraysMethod {
+    /// Tóth & Umenhoffer 2009: each view ray marched through the fog to
+    /// the surface, the Sun's and Moon's shadow maps looked up per step
+    /// (2×2 PCF), N × N interleaved start offsets gathered over the block,
+    /// at a reduced resolution with a depth-aware upsample.
+    Toth,
+}
+
+/// Light shafts: the fog's single scattering of the Sun, Moon and sky
+/// (`lighting.godrays`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct GodraysSettings {
+    /// The method (default `toth`).
+    pub method: GodraysMethod,
+    /// March steps per view ray, in [1, 512] (default 32).
+    pub steps: u32,
+    /// Interleaving: N × N start offsets of the march, one per pixel of
+    /// each N × N block of the marched image, averaged over the block where
+    /// the depth is continuous (an N²-fold finer march), in [1, 8]
+    /// (default 4).
+    pub interleave: u32,
+    /// The march runs on an image this many times smaller on each side,
+    /// upsampled by depth (bilateral), in [1, 8] (default 2).
+    pub resolution_divisor: u32,
+    /// Sky cells (of the environment light's, `lighting.sky`) looked up per
+    /// step for the sky's in-scattering, each in its visibility map, in
+    /// [0, 64] (default 8; 0 = no sky light in the fog). A step looks up
+    /// every k-th cell, the next step the next ones, so that the march
+    /// sweeps them all.
+    pub sky_cells: u32,
+}
+
+impl Default for GodraysSettings {
+    fn default() -> Self {
+        GodraysSettings {
+            method: GodraysMethod::Toth,
+            steps: 32,
+            interleave: 4,
+            resolution_divisor: 2,
+            sky_cells: 8,
+        }
+    }
+}
+
 /// The lighting passes' settings (`lighting`); each pass documents its keys.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, Default)]
 #[serde(deny_unknown_fields, default)]
@@ -208,6 +283,8 @@ pub struct LightingSpec {
     pub shadows: ShadowSettings,
     /// The sky's environment light and its occlusion by the world.
     pub sky: SkyLightSettings,
+    /// Light shafts in the fog.
+    pub godrays: GodraysSettings,
 }
 
 impl LightingSpec {
@@ -215,6 +292,7 @@ impl LightingSpec {
     pub fn validate(&self) -> Result<(), SceneError> {
         let s = &self.shadows;
         let k = &self.sky;
+        let g = &self.godrays;
         for (f, v, lo, hi) in [
             (
                 "lighting.shadows.resolution",
@@ -246,6 +324,15 @@ impl LightingSpec {
                 0.0,
                 10.0,
             ),
+            ("lighting.godrays.steps", g.steps as f64, 1.0, 512.0),
+            ("lighting.godrays.interleave", g.interleave as f64, 1.0, 8.0),
+            (
+                "lighting.godrays.resolution_divisor",
+                g.resolution_divisor as f64,
+                1.0,
+                8.0,
+            ),
+            ("lighting.godrays.sky_cells", g.sky_cells as f64, 0.0, 64.0),
         ] {
             range(f, v, lo, hi)?;
         }
@@ -304,5 +391,72 @@ mod tests {
             ..FogSpec::default()
         };
         assert_eq!(validate_fog(&Some(f)).unwrap_err().field, "fog.phase.hg");
+        let mut l = LightingSpec::default();
+        l.godrays.steps = 0;
+        assert_eq!(l.validate().unwrap_err().field, "lighting.godrays.steps");
+        l.godrays.steps = 32;
+        l.godrays.resolution_divisor = 9;
+        let e = l.validate().unwrap_err();
+        assert_eq!(e.field, "lighting.godrays.resolution_divisor");
+        let g: GodraysSettings = serde_json::from_str(r#"{"method": "toth", "steps": 8}"#).unwrap();
+        assert_eq!(
+            (g.method, g.steps, g.interleave),
+            (GodraysMethod::Toth, 8, 4)
+        );
+        assert!(serde_json::from_str::<GodraysSettings>(r#"{"method": "blur"}"#).is_err());
+    }
+
+    /// ∫ p dΩ over the sphere by the midpoint rule in cos θ (1e5 bands).
+    fn sphere_integral(p: FogPhase) -> f64 {
+        let n = 100_000;
+        let du = 2.0 / n as f64;
+        (0..n)
+            .map(|i| p.eval(-1.0 + (i as f64 + 0.5) * du) * 2.0 * std::f64::consts::PI * du)
+            .sum()
+    }
+
+    #[test]
+    fn phase_functions_are_normalised() {
+        for p in [
+            FogPhase::Isotropic,
+            FogPhase::Rayleigh,
+            FogPhase::Hg(0.0),
+            FogPhase::Hg(0.6),
+            FogPhase::Hg(-0.3),
+            FogPhase::Hg(0.9),
+        ] {
+            let i = sphere_integral(p);
+            assert!((i - 1.0).abs() < 1e-4, "{p:?}: {i}");
+        }
+    }
+
+    #[test]
+    fn phase_functions_have_their_exact_shapes() {
+        use std::f64::consts::PI;
+        // Rayleigh: 3/(16π)·(1 + μ²): twice as bright forward as sideways.
+        let r = FogPhase::Rayleigh;
+        assert!((r.eval(0.0) - 3.0 / (16.0 * PI)).abs() < 1e-15);
+        assert!((r.eval(1.0) / r.eval(0.0) - 2.0).abs() < 1e-12);
+        assert!((r.eval(-0.5) - r.eval(0.5)).abs() < 1e-15);
+        // HG: (1 − g²)/(4π (1 + g² − 2gμ)^{3/2}); forward/backward peaks
+        // ((1 + g)/(1 − g))³ apart; g = 0 is isotropic.
+        let g = 0.6;
+        let h = FogPhase::Hg(g);
+        assert!((h.eval(1.0) - (1.0 + g) / (4.0 * PI * (1.0 - g).powi(2))).abs() < 1e-12);
+        assert!((h.eval(1.0) / h.eval(-1.0) - ((1.0 + g) / (1.0 - g)).powi(3)).abs() < 1e-9);
+        let mu: f64 = 0.3;
+        let want = (1.0 - g * g) / (4.0 * PI * (1.0 + g * g - 2.0 * g * mu).powf(1.5));
+        assert!((h.eval(mu) - want).abs() < 1e-15);
+        assert!((FogPhase::Hg(0.0).eval(0.7) - FogPhase::Isotropic.eval(-0.2)).abs() < 1e-15);
+        // The mean cosine of HG is g.
+        let n = 100_000;
+        let du = 2.0 / n as f64;
+        let mean: f64 = (0..n)
+            .map(|i| {
+                let m = -1.0 + (i as f64 + 0.5) * du;
+                m * h.eval(m) * 2.0 * PI * du
+            })
+            .sum();
+        assert!((mean - g).abs() < 1e-4, "{mean}");
     }
 }

@@ -11,12 +11,15 @@
 //! 4. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
 //!    filtered shadows), the sky (occluded diffuse cells, prefiltered
 //!    specular), emission, fog and aerial perspective, written into the
-//!    target where the G-buffer has a surface.
+//!    target where the G-buffer has a surface; before it, when `godrays`
+//!    runs, the fog's in-scattering marched along the view rays
+//!    ([`godrays`], `godrays.wgsl`), which it adds.
 //!
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
 
 pub mod env;
+pub mod godrays;
 pub mod mesh;
 pub mod pipelines;
 pub mod resources;
@@ -54,6 +57,8 @@ pub struct ShadeUniforms {
     flags: [u32; 4],
     cascade: [[f32; 16]; 8],
     cascade_info: [[f32; 4]; 8],
+    shafts: [f32; 4],
+    shaft_q: [u32; 4],
 }
 
 /// The G-buffer camera (`GCamera` in gbuffer.wgsl).
@@ -80,6 +85,8 @@ pub struct WorldInputs<'a> {
     pub air: Option<&'a AerialPerspective>,
     /// Whether the shadows pass runs.
     pub shadows: bool,
+    /// Whether the godrays pass runs (the plan's decision).
+    pub godrays: bool,
 }
 
 /// Why the shadow maps of the last frame still hold.
@@ -104,6 +111,7 @@ pub struct LightingPasses {
     shadow_views: Vec<LightView>,
     sun_layers: u32,
     prev_view_proj: Option<Mat4>,
+    shafts: godrays::Shafts,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -176,8 +184,10 @@ impl LightingPasses {
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
         stats.push(self.visibility_step(gpu, inputs)?);
         let shadows = self.shadow_step(gpu, inputs, &cam)?;
-        stats.push(self.lighting_step(gpu, inputs, &cam, target)?);
+        let (lit, shafts) = self.lighting_step(gpu, inputs, &cam, target)?;
+        stats.push(lit);
         stats.extend(shadows);
+        stats.extend(shafts);
         Ok(stats)
     }
 
@@ -336,14 +346,15 @@ impl LightingPasses {
         Ok(Some(stat("shadows", true, Some(ms(t)), None)))
     }
 
-    /// Step 4: the lighting pass into the target.
+    /// Step 4: the light shafts' march (when `godrays` runs), then the
+    /// lighting pass into the target. Returns their `--stats` entries.
     fn lighting_step(
         &mut self,
         gpu: &Gpu,
         inputs: &WorldInputs,
         cam: &WorldCamera,
         target: &wgpu::Texture,
-    ) -> Result<PassStat, RenderError> {
+    ) -> Result<(PassStat, Option<PassStat>), RenderError> {
         let t = Clock::now();
         self.maps.ensure_stand_ins(gpu)?;
         let (Some(world), Some(pipes), Some(gb)) = (
@@ -374,11 +385,30 @@ impl LightingPasses {
             self.sun_layers,
         );
         let ubuf = tables.uniforms(gpu, bytemuck::bytes_of(&u));
+        let missing = || RenderError::Device("light maps missing".into());
+        let shafts_stat = if inputs.godrays {
+            let tg = Clock::now();
+            let march = godrays::MarchInputs {
+                uniforms: &ubuf,
+                distance: &gb.views[0],
+                material: &gb.views[3],
+                shadows: self.maps.shadow_view().ok_or_else(missing)?,
+                cells: &tables.cells,
+                cell_view: self.maps.cell_matrices().ok_or_else(missing)?,
+                visibility: self.maps.visibility_view().ok_or_else(missing)?,
+            };
+            let div = inputs.scene.lighting.godrays.resolution_divisor;
+            self.shafts
+                .march(gpu, pipes, &march, (cam.width, cam.height), div)?;
+            Some(stat("godrays", true, Some(ms(tg)), None))
+        } else {
+            None
+        };
+        let shafts_view = self.shafts.view(gpu, inputs.godrays);
         let out = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
             ..Default::default()
         });
-        let missing = || RenderError::Device("light maps missing".into());
         let tv = wgpu::BindingResource::TextureView;
         let group = bind_group(
             &gpu.device,
@@ -426,6 +456,10 @@ impl LightingPasses {
                     binding: 3,
                     resource: tv(&gb.sky[1]),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: tv(shafts_view),
+                },
             ],
         });
         let mut enc = gpu.device.create_command_encoder(&Default::default());
@@ -446,7 +480,11 @@ impl LightingPasses {
         }
         gpu.queue.submit([enc.finish()]);
         gpu.wait()?;
-        Ok(stat("world/lighting", true, Some(ms(t)), None))
+        let lit_ms = ms(t) - shafts_stat.as_ref().and_then(|s| s.ms).unwrap_or(0.0);
+        Ok((
+            stat("world/lighting", true, Some(lit_ms), None),
+            shafts_stat,
+        ))
     }
 }
 
@@ -492,6 +530,8 @@ fn shade_uniforms(
         ShadowFilter::Soft => 2,
     };
     let (ap_scale, ap_max, ap_slices) = air_scale.unwrap_or((1.0, 0.0, 1.0));
+    let (shafts, shaft_q) =
+        godrays::uniforms(scene.fog.as_ref(), &scene.lighting.godrays, inputs.godrays);
     ShadeUniforms {
         eye: v4(cam.eye, cam.tan_half),
         forward: v4(cam.forward, cam.aspect),
@@ -522,6 +562,8 @@ fn shade_uniforms(
         ],
         cascade,
         cascade_info,
+        shafts,
+        shaft_q,
     }
 }
 

@@ -1,7 +1,8 @@
 //! The lighting passes' pipelines, built once on the first world frame:
 //! the G-buffer raster (`shaders/lighting/gbuffer.wgsl`), the depth-only
-//! raster of the light maps (`depth.wgsl`) and the lighting compute pass
-//! (`shade.wgsl`), with their bind-group layouts and samplers.
+//! raster of the light maps (`depth.wgsl`), the light shafts' march
+//! (`godrays.wgsl`) and the lighting compute pass (`shade.wgsl`), with
+//! their bind-group layouts and samplers.
 
 use crate::gpu::Gpu;
 
@@ -50,6 +51,11 @@ pub struct Pipelines {
     pub sky_in_layout: wgpu::BindGroupLayout,
     /// Its group 0 (shade.wgsl's bindings 0–17).
     pub shade_layout: wgpu::BindGroupLayout,
+    /// The light shafts' march (godrays.wgsl).
+    pub godrays: wgpu::ComputePipeline,
+    /// Its group 0: uniforms, distance, material, shadow maps, comparison
+    /// sampler, output, sky cells, their matrices and visibility maps.
+    pub godrays_layout: wgpu::BindGroupLayout,
     /// Trilinear, repeating (base colour).
     pub repeat: wgpu::Sampler,
     /// Bilinear, clamped (environment, BRDF table, air table).
@@ -148,7 +154,10 @@ impl Pipelines {
         let visibility_depth = depth_pipeline(gpu, &depth_layout, VISIBILITY_FORMAT);
         let smod = gpu.shader(
             "shade.wgsl",
-            include_str!("../../shaders/lighting/shade.wgsl"),
+            concat!(
+                include_str!("../../shaders/lighting/common.wgsl"),
+                include_str!("../../shaders/lighting/shade.wgsl")
+            ),
         );
         let c = wgpu::ShaderStages::COMPUTE;
         let storage = |binding, format| {
@@ -175,8 +184,10 @@ impl Pipelines {
             entries: &[
                 entry(2, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
                 entry(3, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+                entry(4, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
             ],
         });
+        let (godrays, godrays_layout) = godrays_pipeline(gpu);
         let shade = gpu.compute_pipeline(
             &gpu.pipeline_layout("shade", &[&shade_layout, &sky_in_layout]),
             &smod,
@@ -211,6 +222,8 @@ impl Pipelines {
             sky,
             sky_out_layout,
             sky_in_layout,
+            godrays,
+            godrays_layout,
             repeat: sampler("repeat", wgpu::AddressMode::Repeat, None),
             clamp: sampler("clamp", wgpu::AddressMode::ClampToEdge, None),
             compare: sampler(
@@ -220,6 +233,75 @@ impl Pipelines {
             ),
         }
     }
+}
+
+/// The light shafts' march (`godrays.wgsl`) and its group 0: uniforms,
+/// distance, material, shadow maps, comparison sampler, output, sky cells,
+/// their matrices and visibility maps.
+fn godrays_pipeline(gpu: &Gpu) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+    let dev = &gpu.device;
+    let c = wgpu::ShaderStages::COMPUTE;
+    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
+    let rmod = gpu.shader(
+        "godrays.wgsl",
+        concat!(
+            include_str!("../../shaders/lighting/common.wgsl"),
+            include_str!("../../shaders/lighting/godrays.wgsl")
+        ),
+    );
+    let godrays_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("godrays"),
+        entries: &[
+            entry(0, c, buffer(wgpu::BufferBindingType::Uniform, false)),
+            entry(1, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            entry(
+                2,
+                c,
+                texture(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2,
+                ),
+            ),
+            entry(
+                3,
+                c,
+                texture(
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+            ),
+            entry(
+                4,
+                c,
+                wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison),
+            ),
+            entry(
+                5,
+                c,
+                wgpu::BindingType::StorageTexture {
+                    access: wgpu::StorageTextureAccess::WriteOnly,
+                    format: wgpu::TextureFormat::Rgba32Float,
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                },
+            ),
+            entry(6, c, buffer(STORAGE_RO, false)),
+            entry(7, c, buffer(STORAGE_RO, false)),
+            entry(
+                8,
+                c,
+                texture(
+                    wgpu::TextureSampleType::Depth,
+                    wgpu::TextureViewDimension::D2Array,
+                ),
+            ),
+        ],
+    });
+    let godrays = gpu.compute_pipeline(
+        &gpu.pipeline_layout("godrays", &[&godrays_layout]),
+        &rmod,
+        "march",
+    );
+    (godrays, godrays_layout)
 }
 
 /// The bind-group layouts of the G-buffer, the light depth and the

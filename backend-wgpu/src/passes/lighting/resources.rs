@@ -16,7 +16,7 @@ use super::pipelines::{
 use super::view::LightView;
 use crate::gpu::{bind_group, Gpu};
 
-fn texture(
+pub(super) fn texture(
     gpu: &Gpu,
     label: &str,
     size: (u32, u32, u32),

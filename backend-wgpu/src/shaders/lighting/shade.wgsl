@@ -20,54 +20,17 @@
 // * aerial perspective: in-scattering L_air and transmittance T_air of the
 //   air between the eye and the point, from a froxel table the sky model
 //   computes (frame/lights.rs).
+// * light shafts (godrays.wgsl, when the pass runs): the fog's
+//   in-scattering along the view ray, marched at a reduced resolution, is
+//   gathered here by depth over the interleaved N × N block and added
+//   after the view ray's fog extinction.
 // Sky pixels are not written: they stay what the sky passes rendered.
-
-struct Shade {
-    // xyz: eye; w: tan(fov / 2).
-    eye: vec4<f32>,
-    // xyz: forward; w: width / height.
-    forward: vec4<f32>,
-    // xyz: right; w: width, px.
-    right: vec4<f32>,
-    // xyz: up; w: height, px.
-    up: vec4<f32>,
-    // xyz: towards the Sun (world frame); w: 1 when it lights.
-    sun_dir: vec4<f32>,
-    // rgb: transmitted illuminance, lux; w: tan(angular radius).
-    sun_rgb: vec4<f32>,
-    moon_dir: vec4<f32>,
-    moon_rgb: vec4<f32>,
-    // σt (1/m), top (m), 1 when there is fog, 0.
-    fog: vec4<f32>,
-    // Scale of the f16 environment maps, of the f16 air table, the air
-    // table's largest distance (m), its slices.
-    scales: vec4<f32>,
-    // Sky cells, Sun cascades, Moon cascades, filter (0 off, 1 pcf, 2 soft).
-    counts: vec4<u32>,
-    // Whether the sky light is on, the first Moon layer, the interleave
-    // side, the aureoles' cells.
-    flags: vec4<u32>,
-    cascade: array<mat4x4<f32>, 8>,
-    // texel (m), depth range (m), split view depth (m; 1e30: the last), 0.
-    cascade_info: array<vec4<f32>, 8>,
-}
+// common.wgsl (the uniforms, the view ray) is prepended.
 
 struct MaterialGpu {
     base_color: vec4<f32>,
     emissive_texture: vec4<f32>,
     metallic_roughness: vec4<f32>,
-}
-
-struct SkyCell {
-    // xyz: direction (world); w: its visibility map's texel, m.
-    dir: vec4<f32>,
-    // xyz: ∫ L ω dω of the red channel; w: the cell's solid angle, sr.
-    r: vec4<f32>,
-    g: vec4<f32>,
-    b: vec4<f32>,
-    // x: its first part, y: its parts, z: the tangent of the cone around
-    // dir that holds the cell (env.rs `SkyCell`).
-    parts: vec4<f32>,
 }
 
 struct CellPart {
@@ -80,7 +43,6 @@ struct CellPart {
     b: vec4<f32>,
 }
 
-@group(0) @binding(0) var<uniform> u: Shade;
 @group(0) @binding(1) var g_distance: texture_2d<f32>;
 @group(0) @binding(2) var g_normal: texture_2d<f32>;
 @group(0) @binding(3) var g_base: texture_2d<f32>;
@@ -105,17 +67,11 @@ struct CellPart {
 @group(1) @binding(1) var sky_s_out: texture_storage_2d<r32float, write>;
 @group(1) @binding(2) var sky_e_in: texture_2d<f32>;
 @group(1) @binding(3) var sky_s_in: texture_2d<f32>;
+// The godrays pass's in-scattering (rgb, cd/m²), at 1 / shaft_q.z of the
+// resolution.
+@group(1) @binding(4) var shafts_in: texture_2d<f32>;
 
-const PI: f32 = 3.14159265358979;
 const SPECULAR_LEVELS: f32 = 5.0;
-
-fn light_uv(s: vec4<f32>) -> vec2<f32> {
-    return vec2<f32>(s.x * 0.5 + 0.5, 0.5 - s.y * 0.5);
-}
-
-fn inside(uv: vec2<f32>) -> bool {
-    return all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
-}
 
 // The receiver's own plane in a light map: its depth (map units) changes
 // by dot(o, g) at an offset of o texels from the receiver, so that a
@@ -439,14 +395,6 @@ fn fog_length(p: vec3<f32>) -> f32 {
     return len * (top - lo) / (hi - lo);
 }
 
-// The view ray through the centre of pixel q.
-fn pixel_ray(q: vec2<i32>, w: u32, h: u32) -> vec3<f32> {
-    let t = u.eye.w;
-    let nx = (f32(q.x) + 0.5 - 0.5 * f32(w)) / (0.5 * f32(h)) * t;
-    let ny = -(f32(q.y) + 0.5 - 0.5 * f32(h)) / (0.5 * f32(h)) * t;
-    return normalize(u.forward.xyz + u.right.xyz * nx + u.up.xyz * ny);
-}
-
 // The sky pass: this pixel's set of cells (its place in the N × N block),
 // each cell's first moment seen through its visibility map.
 @compute @workgroup_size(8, 8)
@@ -523,6 +471,58 @@ fn same_surface(q: vec2<i32>, p: vec3<f32>, n: vec3<f32>, dist: f32, w: u32, h: 
     let nq = textureLoad(g_normal, q, 0).xyz;
     let pq = u.eye.xyz + pixel_ray(q, w, h) * textureLoad(g_distance, q, 0).x;
     return dot(nq, n) >= 0.95 && abs(dot(pq - p, n)) <= 0.02 * dist;
+}
+
+// The light shafts at pixel px (seen at distance dist): the marched
+// image's texels around it, each at the depth of the pixel it marched.
+// With N × N interleaving, the N × N block around it (a box, so that each
+// of the N² start offsets counts once); else the bilinear 2 × 2. Texels
+// on another surface (depth off by more than a few per cent) are left out;
+// where all are, the nearest in depth stands in.
+fn gather_shafts(px: vec2<i32>, dist: f32, w: u32, h: u32) -> vec4<f32> {
+    let div = i32(u.shaft_q.z);
+    let n = i32(u.shaft_q.y);
+    let lsize = vec2<i32>(textureDimensions(shafts_in));
+    let c = (vec2<f32>(px) + 0.5) / f32(div) - 0.5;
+    let base = vec2<i32>(floor(c));
+    let f = c - floor(c);
+    var k = n;
+    var lo = -(n / 2 - 1);
+    if n <= 1 {
+        k = 2;
+        lo = 0;
+    }
+    var acc = vec4<f32>(0.0);
+    var wsum = 0.0;
+    var best = vec4<f32>(0.0);
+    var best_d = 1e30;
+    let sigma = 0.03 * dist + 0.02;
+    for (var dy = lo; dy < lo + k; dy++) {
+        for (var dx = lo; dx < lo + k; dx++) {
+            let q = clamp(base + vec2<i32>(dx, dy), vec2<i32>(0), lsize - 1);
+            let rp = min(q * div + div / 2, vec2<i32>(i32(w) - 1, i32(h) - 1));
+            if textureLoad(g_material, rp, 0).x == 0u {
+                continue;
+            }
+            let dq = abs(textureLoad(g_distance, rp, 0).x - dist);
+            let v = textureLoad(shafts_in, q, 0);
+            if dq < best_d {
+                best_d = dq;
+                best = v;
+            }
+            var wt = exp(-(dq * dq) / (sigma * sigma));
+            if n <= 1 {
+                let b = select(1.0 - f, f, vec2<i32>(dx, dy) == vec2<i32>(1));
+                wt *= max(b.x * b.y, 1e-4);
+            }
+            acc += v * wt;
+            wsum += wt;
+        }
+    }
+    if wsum < 1e-3 {
+        return best;
+    }
+    return acc / wsum;
 }
 
 @compute @workgroup_size(8, 8)
@@ -612,6 +612,10 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     // The view ray: fog, then the air.
     if fog_on {
         l = l * exp(-u.fog.x * fog_length(p));
+    }
+    if u.shafts.w > 0.5 {
+        let sh = gather_shafts(px, dist, w, h);
+        l += sh.rgb;
     }
     if u.scales.z > 0.0 {
         let uvw = vec3<f32>(

@@ -1,0 +1,176 @@
+//! Light shafts (`lighting.godrays`, issue 15): the fog's single scattering
+//! of the Sun, the Moon and the sky along each view ray.
+//!
+//! `toth` (Tóth & Umenhoffer 2009, `godrays.wgsl`): every view ray is
+//! marched through the fog to the surface the G-buffer shows, with the
+//! Sun's and Moon's shadow maps looked up per step, on an image
+//! `resolution_divisor` times smaller on each side, the march's start
+//! offset interleaved over N × N texels; the lighting pass (`shade.wgsl`)
+//! gathers it back by depth and adds it after the view ray's extinction.
+//! The sky's part comes from the environment light's cells above the
+//! horizon (each one's ∫L dΩ, the phase at its direction), each seen
+//! through its visibility map from the point in the fog and attenuated
+//! along its own direction to the fog's top; a step looks up a share of
+//! the cells in turn (every cell over the march), the pixel's interleaved
+//! set as the sky pass's.
+
+use himmel_skymodel::{FogSpec, GodraysSettings, RenderError};
+
+use super::pipelines::Pipelines;
+use super::resources::texture;
+use crate::gpu::{bind_group, Gpu};
+
+/// The marched in-scattering (rgba32float: rgb, cd/m²) and its stand-in
+/// when the pass does not run.
+#[derive(Default)]
+pub struct Shafts {
+    image: Option<((u32, u32), wgpu::TextureView)>,
+    stand_in: Option<wgpu::TextureView>,
+}
+
+/// The size of the marched image for a frame of `w` × `h`.
+pub fn marched_size(w: u32, h: u32, divisor: u32) -> (u32, u32) {
+    let d = divisor.max(1);
+    (w.div_ceil(d).max(1), h.div_ceil(d).max(1))
+}
+
+fn image(gpu: &Gpu, (w, h): (u32, u32)) -> wgpu::TextureView {
+    texture(
+        gpu,
+        "shafts",
+        (w, h, 1),
+        wgpu::TextureDimension::D2,
+        wgpu::TextureFormat::Rgba32Float,
+        wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING,
+    )
+    .create_view(&Default::default())
+}
+
+/// The shafts' uniforms (`shafts`, `shaft_q` in common.wgsl): off when
+/// the pass does not run.
+pub fn uniforms(
+    fog: Option<&FogSpec>,
+    settings: &GodraysSettings,
+    on: bool,
+) -> ([f32; 4], [u32; 4]) {
+    let Some(f) = fog.filter(|_| on) else {
+        return ([0.0; 4], [0, 1, 1, 0]);
+    };
+    let (kind, g) = f.phase.code();
+    (
+        [f.scattering_per_m as f32, kind as f32, g as f32, 1.0],
+        [
+            settings.steps.max(1),
+            settings.interleave.max(1),
+            settings.resolution_divisor.max(1),
+            settings.sky_cells,
+        ],
+    )
+}
+
+/// What the march reads.
+pub struct MarchInputs<'a> {
+    /// The lighting uniforms (with the shafts' part).
+    pub uniforms: &'a wgpu::Buffer,
+    /// The G-buffer's distance and material views.
+    pub distance: &'a wgpu::TextureView,
+    /// The G-buffer's material ids.
+    pub material: &'a wgpu::TextureView,
+    /// The Sun's and Moon's cascades (or the 1-texel stand-in).
+    pub shadows: &'a wgpu::TextureView,
+    /// The sky's cells (env.rs).
+    pub cells: &'a wgpu::Buffer,
+    /// Their visibility maps' matrices.
+    pub cell_view: &'a wgpu::Buffer,
+    /// Their visibility maps (or the stand-in).
+    pub visibility: &'a wgpu::TextureView,
+}
+
+impl Shafts {
+    /// Marches the frame's view rays into the marched image (the frame is
+    /// `w` × `h`), waits for the device.
+    pub fn march(
+        &mut self,
+        gpu: &Gpu,
+        pipes: &Pipelines,
+        inputs: &MarchInputs,
+        (w, h): (u32, u32),
+        divisor: u32,
+    ) -> Result<(), RenderError> {
+        let size = marched_size(w, h, divisor);
+        if self.image.as_ref().map(|i| i.0) != Some(size) {
+            self.image = Some((size, image(gpu, size)));
+        }
+        let Some((_, out)) = self.image.as_ref() else {
+            return Err(RenderError::Device("shafts image missing".into()));
+        };
+        let tv = wgpu::BindingResource::TextureView;
+        let group = bind_group(
+            &gpu.device,
+            "godrays",
+            &pipes.godrays_layout,
+            &[
+                inputs.uniforms.as_entire_binding(),
+                tv(inputs.distance),
+                tv(inputs.material),
+                tv(inputs.shadows),
+                wgpu::BindingResource::Sampler(&pipes.compare),
+                tv(out),
+                inputs.cells.as_entire_binding(),
+                inputs.cell_view.as_entire_binding(),
+                tv(inputs.visibility),
+            ],
+        );
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&pipes.godrays);
+            pass.set_bind_group(0, &group, &[]);
+            pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
+        }
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait()
+    }
+
+    /// The marched image of the last march, or (`on` false) a 1 × 1
+    /// stand-in the lighting pass binds and does not read.
+    pub fn view(&mut self, gpu: &Gpu, on: bool) -> &wgpu::TextureView {
+        if on {
+            if let Some((_, v)) = self.image.as_ref() {
+                return v;
+            }
+        }
+        self.stand_in.get_or_insert_with(|| image(gpu, (1, 1)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use himmel_skymodel::FogPhase;
+
+    #[test]
+    fn the_marched_image_rounds_up() {
+        assert_eq!(marched_size(320, 180, 1), (320, 180));
+        assert_eq!(marched_size(321, 181, 2), (161, 91));
+        assert_eq!(marched_size(5, 3, 8), (1, 1));
+    }
+
+    #[test]
+    fn uniforms_carry_the_medium_and_the_quality() {
+        let f = FogSpec {
+            scattering_per_m: 0.05,
+            phase: FogPhase::Hg(0.4),
+            ..FogSpec::default()
+        };
+        let s = GodraysSettings::default();
+        let (a, c) = uniforms(Some(&f), &s, true);
+        assert_eq!(a, [0.05, 2.0, 0.4, 1.0]);
+        assert_eq!(
+            c,
+            [s.steps, s.interleave, s.resolution_divisor, s.sky_cells]
+        );
+        let (a, _) = uniforms(Some(&f), &s, false);
+        assert_eq!(a[3], 0.0);
+    }
+}

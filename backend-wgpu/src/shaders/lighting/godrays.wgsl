@@ -1,0 +1,205 @@
+// Light shafts, `toth` (Tóth & Umenhoffer 2009; passes/lighting/godrays.rs):
+// each view ray is marched from the eye to the surface the G-buffer shows,
+// through the part of it inside the fog (y ≤ top), and sums the fog's
+// single scattering, in cd/m²:
+//
+//   L_s = σ_s Σ_i w_i [p(θ_sun) E_sun T_sun(y_i) V_sun(x_i)
+//                      + p(θ_moon) E_moon T_moon(y_i) V_moon(x_i)
+//                      + Σ_k p(θ_k) S_k T_k(y_i) V_k(x_i)]
+//
+// * w_i = ∫ over step i of exp(−σ_t s) ds: the view ray's transmittance
+//   integrated exactly over each step (exact for light constant over it);
+// * T_light(y) = exp(−σ_t (top − y) / sin h) (world.md), E the light's
+//   transmitted illuminance (lux), p the fog's phase at cos θ = ray · l;
+// * V: the light's cascaded shadow map at the sample (2 × 2 PCF by the
+//   comparison sampler), 1 outside the maps;
+// * the sky: its environment light's cells k above the horizon (env.rs;
+//   the texel's interleaved set and the aureoles' cells), S_k = |∫L ω dΩ|
+//   over the cell (≈ ∫L dΩ for a cell a few degrees wide) per channel,
+//   T_k = exp(−σ_t (top − y) / sin h_k) along the cell's own direction,
+//   V_k from the cell's visibility map at x_i. Cells below the horizon are
+//   left out (their light crosses the fog's whole depth, or the ground).
+//   Step i looks up the interleaved set (texel's set + i) mod N_sets, and
+//   in it every `stride`-th cell (`sky_cells` per step), the next step the next ones,
+//   weighted by `stride`, so that the march sees each cell ~steps/stride
+//   times;
+// * N × N interleaving: texel (x, y) starts its march at the fraction
+//   ((x mod N) + N (y mod N) + ½) / N² of a step; shade.wgsl averages the
+//   N × N block.
+// The march runs on an image 1 / shaft_q.z of the frame's size, each texel
+// for the frame pixel at its block's centre. Sky pixels are not marched
+// (the sky's own fog is left out, as its extinction is).
+// common.wgsl (the uniforms, the view ray) is prepended.
+
+@group(0) @binding(1) var g_distance: texture_2d<f32>;
+@group(0) @binding(2) var g_material: texture_2d<u32>;
+@group(0) @binding(3) var shadows: texture_depth_2d_array;
+@group(0) @binding(4) var cmp_sampler: sampler_comparison;
+@group(0) @binding(5) var shafts_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(6) var<storage, read> cells: array<SkyCell>;
+@group(0) @binding(7) var<storage, read> cell_view: array<mat4x4<f32>>;
+@group(0) @binding(8) var visibility: texture_depth_2d_array;
+
+
+// The fog's phase function at cos θ, 1/sr.
+fn phase(c: f32) -> f32 {
+    let kind = u.shafts.y;
+    if kind < 0.5 {
+        return 1.0 / (4.0 * PI);
+    }
+    if kind < 1.5 {
+        return 3.0 / (16.0 * PI) * (1.0 + c * c);
+    }
+    let g = u.shafts.z;
+    let d = 1.0 + g * g - 2.0 * g * c;
+    return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
+}
+
+// Visibility of a directional light (cascades first..first+count) at a
+// point x in the air, view depth view_depth.
+fn light_visibility(first: u32, count: u32, x: vec3<f32>, view_depth: f32) -> f32 {
+    if count == 0u {
+        return 1.0;
+    }
+    var c = 0u;
+    loop {
+        if c + 1u >= count || view_depth <= u.cascade_info[first + c].z {
+            break;
+        }
+        c = c + 1u;
+    }
+    let layer = first + c;
+    let info = u.cascade_info[layer];
+    let s = u.cascade[layer] * vec4<f32>(x, 1.0);
+    let uv = light_uv(s);
+    if !inside(uv) || s.z <= 0.0 {
+        return 1.0;
+    }
+    let z = min(s.z, 1.0) - info.x / info.y;
+    return textureSampleCompareLevel(shadows, cmp_sampler, uv, i32(layer), z);
+}
+
+// Whether sky cell k's light reaches x (its visibility map's nearest
+// texel; 1 outside the map).
+fn sky_visibility(k: u32, x: vec3<f32>) -> f32 {
+    let s = cell_view[k] * vec4<f32>(x, 1.0);
+    let uv = light_uv(s);
+    if !inside(uv) || s.z <= 0.0 {
+        return 1.0;
+    }
+    let size = vec2<f32>(textureDimensions(visibility));
+    let t = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
+    return select(0.0, 1.0, s.z - 1e-4 <= textureLoad(visibility, t, i32(k), 0));
+}
+
+// The sky's in-scattering at x (depth below the fog's top), per unit σ_s
+// and step weight: cells j ≡ first (mod stride) of the texel's set and the
+// aureoles', × stride.
+fn sky_light(x: vec3<f32>, depth: f32, ray: vec3<f32>, cell_set: u32, first: u32, stride: u32) -> vec3<f32> {
+    let per = u.counts.x;
+    let total = per + u.flags.w;
+    let aureole_first = u.flags.z * u.flags.z * per;
+    var e = vec3<f32>(0.0);
+    for (var j = first; j < total; j += stride) {
+        var k = cell_set * per + j;
+        if j >= per {
+            k = aureole_first + j - per;
+        }
+        let c = cells[k];
+        if c.dir.y <= 0.0 {
+            continue;
+        }
+        let s = vec3<f32>(length(c.r.xyz), length(c.g.xyz), length(c.b.xyz));
+        let t = exp(-u.fog.x * depth / max(c.dir.y, 1e-3));
+        e += s * (phase(dot(ray, c.dir.xyz)) * t * sky_visibility(k, x));
+    }
+    return e * f32(stride);
+}
+
+@compute @workgroup_size(8, 8)
+fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let w = u32(u.right.w);
+    let h = u32(u.up.w);
+    let div = max(u.shaft_q.z, 1u);
+    let lw = (w + div - 1u) / div;
+    let lh = (h + div - 1u) / div;
+    if gid.x >= lw || gid.y >= lh {
+        return;
+    }
+    let q = vec2<i32>(gid.xy);
+    let px = min(q * i32(div) + i32(div / 2u), vec2<i32>(i32(w) - 1, i32(h) - 1));
+    if textureLoad(g_material, px, 0).x == 0u {
+        textureStore(shafts_out, q, vec4<f32>(0.0));
+        return;
+    }
+    let dist = textureLoad(g_distance, px, 0).x;
+    let ray = pixel_ray(px, w, h);
+    let eye = u.eye.xyz;
+    let top = u.fog.y;
+    // The part of the ray inside the fog (y ≤ top): one interval.
+    var t0 = 0.0;
+    var t1 = dist;
+    if ray.y > 1e-6 {
+        t1 = min(t1, (top - eye.y) / ray.y);
+    } else if ray.y < -1e-6 {
+        t0 = max(t0, (top - eye.y) / ray.y);
+    } else if eye.y > top {
+        t1 = 0.0;
+    }
+    if t1 <= t0 {
+        textureStore(shafts_out, q, vec4<f32>(0.0));
+        return;
+    }
+    let steps = max(u.shaft_q.x, 1u);
+    let n = max(u.shaft_q.y, 1u);
+    let jitter = (f32((gid.x % n) + (gid.y % n) * n) + 0.5) / f32(n * n);
+    let dt = (t1 - t0) / f32(steps);
+    let st = u.fog.x;
+    // ∫_0^dt exp(−σ_t s) ds, and the transmittance across one step.
+    var seg = dt;
+    if st * dt > 1e-5 {
+        seg = (1.0 - exp(-st * dt)) / st;
+    }
+    let step_t = exp(-st * dt);
+    let fwd = dot(ray, u.forward.xyz);
+    let sun_on = u.sun_dir.w > 0.5 && u.sun_dir.y > 0.0;
+    let moon_on = u.moon_dir.w > 0.5 && u.moon_dir.y > 0.0;
+    var sun_sum = 0.0;
+    var moon_sum = 0.0;
+    var sky_sum = vec3<f32>(0.0);
+    let sky_per_step = u.shaft_q.w;
+    let sky_on = u.flags.x == 1u && u.counts.x > 0u && sky_per_step > 0u;
+    let side = max(u.flags.z, 1u);
+    let cell_set = (gid.x % side) + (gid.y % side) * side;
+    let stride = clamp((u.counts.x + u.flags.w + sky_per_step - 1u) / max(sky_per_step, 1u), 1u, steps);
+    var tv = seg;
+    for (var i = 0u; i < steps; i++) {
+        let t = t0 + (f32(i) + jitter) * dt;
+        let x = eye + ray * t;
+        let depth = max(top - x.y, 0.0);
+        if sun_on {
+            let tl = exp(-st * depth / max(u.sun_dir.y, 1e-4));
+            sun_sum += tl * light_visibility(0u, u.counts.y, x, t * fwd) * tv;
+        }
+        if moon_on {
+            let tl = exp(-st * depth / max(u.moon_dir.y, 1e-4));
+            moon_sum += tl * light_visibility(u.flags.y, u.counts.z, x, t * fwd) * tv;
+        }
+        if sky_on {
+            // The sets take turns along the march (the texel's own first).
+            let set_i = (cell_set + i) % (side * side);
+            sky_sum += sky_light(x, depth, ray, set_i, i % stride, stride) * tv;
+        }
+        tv *= step_t;
+    }
+    let ss = u.shafts.x;
+    var l = vec3<f32>(0.0);
+    if sun_on {
+        l += u.sun_rgb.rgb * (ss * phase(dot(ray, u.sun_dir.xyz)) * sun_sum);
+    }
+    if moon_on {
+        l += u.moon_rgb.rgb * (ss * phase(dot(ray, u.moon_dir.xyz)) * moon_sum);
+    }
+    l += ss * sky_sum;
+    textureStore(shafts_out, q, vec4<f32>(l, 0.0));
+}
