@@ -26,8 +26,7 @@ mod wgpu_common;
 mod world_common;
 
 use himmel_skymodel::{
-    Effect, FogSpec, GodraysSettings, PassStat, Projection, RenderOutput, Scene, SkyRenderer,
-    SkyState, WorldSpec,
+    Effect, FogSpec, GodraysSettings, PassStat, RenderOutput, Scene, SkyRenderer, SkyState,
 };
 use serde_json::Value;
 use world_common::metrics::GEOMETRY;
@@ -37,45 +36,8 @@ fn root() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn triple(v: &Value) -> [f64; 3] {
-    [0, 1, 2].map(|k| v[k].as_f64().expect("a number"))
-}
-
 fn case_scene(c: &Value, godrays: Option<GodraysSettings>) -> Scene {
-    let mut s = Scene::default();
-    s.time.utc = c["time"].as_str().unwrap().into();
-    s.observer.lat_deg = c["lat"].as_f64().unwrap();
-    s.observer.lon_deg = c["lon"].as_f64().unwrap();
-    s.observer.elevation_m = c["elevation_m"].as_f64().unwrap_or(0.0);
-    let cam = &c["camera"];
-    s.camera.projection = Projection::Perspective;
-    s.camera.width = cam["width"].as_u64().unwrap() as u32;
-    s.camera.height = cam["height"].as_u64().unwrap() as u32;
-    s.camera.fov_deg = cam["fov_deg"].as_f64().unwrap();
-    s.camera.position_m = Some(triple(&cam["position_m"]));
-    s.camera.look_at_m = Some(triple(&cam["look_at_m"]));
-    s.camera.up = Some(triple(&cam["up"]));
-    s.effects = vec![
-        Effect::Atmosphere,
-        Effect::Sun,
-        Effect::Moon,
-        Effect::Stars,
-        Effect::Planets,
-        Effect::Milkyway,
-        Effect::World,
-        Effect::Shadows,
-    ];
-    assert_eq!(
-        c["ground_albedo"].as_f64(),
-        Some(s.atmosphere.ground_albedo)
-    );
-    s.world = Some(WorldSpec {
-        gltf: c["world"].as_str().unwrap().into(),
-        ground: false,
-    });
-    if let Some(l) = c.get("lighting") {
-        s.lighting = serde_json::from_value(l.clone()).expect("a case's `lighting` object");
-    }
+    let mut s = world_common::cases::case_scene(c);
     let fog: FogSpec = serde_json::from_value(c["fog"].clone()).expect("a case's `fog`");
     s.fog = Some(fog);
     if let Some(g) = godrays {

@@ -19,7 +19,7 @@
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState, WorldSpec};
+use himmel_skymodel::{Scene, SkyRenderer, SkyState};
 use serde_json::Value;
 use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage};
 use world_common::metrics::{SKYLIT, SUNLIT};
@@ -28,51 +28,13 @@ fn root() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-fn triple(v: &Value) -> [f64; 3] {
-    [0, 1, 2].map(|k| v[k].as_f64().expect("a number"))
-}
-
 /// The scene of a case (as its `himmel_args`).
 fn case_scene(c: &Value) -> Scene {
-    let mut s = Scene::default();
-    s.time.utc = c["time"].as_str().unwrap().into();
-    s.observer.lat_deg = c["lat"].as_f64().unwrap();
-    s.observer.lon_deg = c["lon"].as_f64().unwrap();
-    s.observer.elevation_m = c["elevation_m"].as_f64().unwrap_or(0.0);
-    let cam = &c["camera"];
-    s.camera.projection = Projection::Perspective;
-    s.camera.width = cam["width"].as_u64().unwrap() as u32;
-    s.camera.height = cam["height"].as_u64().unwrap() as u32;
-    s.camera.fov_deg = cam["fov_deg"].as_f64().unwrap();
-    s.camera.position_m = Some(triple(&cam["position_m"]));
-    s.camera.look_at_m = Some(triple(&cam["look_at_m"]));
-    s.camera.up = Some(triple(&cam["up"]));
-    s.effects = vec![
-        Effect::Atmosphere,
-        Effect::Sun,
-        Effect::Moon,
-        Effect::Stars,
-        Effect::Planets,
-        Effect::Milkyway,
-        Effect::World,
-        Effect::Shadows,
-    ];
-    // The references' sky is Himmel's default atmosphere (ground albedo 0.2).
-    assert_eq!(
-        c["ground_albedo"].as_f64(),
-        Some(s.atmosphere.ground_albedo)
-    );
-    s.world = Some(WorldSpec {
-        gltf: c["world"].as_str().unwrap().into(),
-        ground: c["ground"].as_bool().unwrap_or(false),
-    });
+    let mut s = world_common::cases::case_scene(c);
     // The case's own lighting settings (the sun room's: its cells in
     // parts, for the window), then others to measure them:
     // HIMMEL_WORLD_LIGHTING='{"sky": {"interleave": 2, "directions": 256}}'
     // (the scene file's `lighting` object).
-    if let Some(l) = c.get("lighting") {
-        s.lighting = serde_json::from_value(l.clone()).expect("a case's `lighting` object");
-    }
     if let Ok(json) = std::env::var("HIMMEL_WORLD_LIGHTING") {
         s.lighting =
             serde_json::from_str(&json).expect("HIMMEL_WORLD_LIGHTING: a `lighting` object");

@@ -4,4 +4,5 @@
 //! Include with `mod world_common;` from a file of `tests/tests/`.
 #![allow(dead_code)]
 
+pub mod cases;
 pub mod metrics;
