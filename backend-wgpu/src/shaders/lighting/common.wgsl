@@ -51,6 +51,20 @@ struct SkyCell {
 
 @group(0) @binding(0) var<uniform> u: Shade;
 
+// The cascade of a directional light (cascades first..first+count) that
+// covers view depth view_depth: the first whose far depth reaches it, else
+// the last.
+fn cascade_layer(first: u32, count: u32, view_depth: f32) -> u32 {
+    var c = 0u;
+    loop {
+        if c + 1u >= count || view_depth <= u.cascade_info[first + c].z {
+            break;
+        }
+        c = c + 1u;
+    }
+    return first + c;
+}
+
 const PI: f32 = 3.14159265358979;
 
 fn light_uv(s: vec4<f32>) -> vec2<f32> {

@@ -61,14 +61,7 @@ fn light_visibility(first: u32, count: u32, x: vec3<f32>, view_depth: f32) -> f3
     if count == 0u {
         return 1.0;
     }
-    var c = 0u;
-    loop {
-        if c + 1u >= count || view_depth <= u.cascade_info[first + c].z {
-            break;
-        }
-        c = c + 1u;
-    }
-    let layer = first + c;
+    let layer = cascade_layer(first, count, view_depth);
     let info = u.cascade_info[layer];
     let s = u.cascade[layer] * vec4<f32>(x, 1.0);
     let uv = light_uv(s);

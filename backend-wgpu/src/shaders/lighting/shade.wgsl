@@ -232,14 +232,7 @@ fn disk(i: u32, n: u32, rot: f32) -> vec2<f32> {
 
 // Shadow of a directional light (cascades first..first+count) at p.
 fn shadow(first: u32, count: u32, p: vec3<f32>, n: vec3<f32>, ld: vec3<f32>, view_depth: f32, tan_r: f32, px: vec2<u32>) -> f32 {
-    var c = 0u;
-    loop {
-        if c + 1u >= count || view_depth <= u.cascade_info[first + c].z {
-            break;
-        }
-        c = c + 1u;
-    }
-    let layer = first + c;
+    let layer = cascade_layer(first, count, view_depth);
     let info = u.cascade_info[layer];
     let texel = info.x;
     let depth_m = info.y;
