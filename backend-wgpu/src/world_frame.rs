@@ -8,6 +8,7 @@
 use std::time::Instant as Clock;
 
 use glam::{DVec3, Vec3};
+use himmel_skymodel::clouds::{HighField, LowField};
 use himmel_skymodel::frame::{AerialPerspective, ObserverLights};
 use himmel_skymodel::renderer::PassStat;
 use himmel_skymodel::{Camera, Effect, FramePlan, Projection, RenderError, Scene, SkyState};
@@ -19,12 +20,14 @@ use crate::passes::lighting::view::aabb_corners;
 use crate::passes::lighting::{LightingPasses, WorldInputs};
 use crate::WgpuRenderer;
 
-/// The sky effects the environment light is made of.
-const ENV_EFFECTS: [Effect; 4] = [
+/// The sky effects the environment light is made of (the clouds
+/// included: a cloudy sky lights the world with its clouds).
+const ENV_EFFECTS: [Effect; 5] = [
     Effect::Atmosphere,
     Effect::Milkyway,
     Effect::Stars,
     Effect::Planets,
+    Effect::Clouds,
 ];
 
 /// What the environment light was built for.
@@ -42,6 +45,8 @@ pub struct EnvKey {
     observer_km: f64,
     /// Whether the Sun and the Moon light the world (they have aureoles).
     bodies: [bool; 2],
+    /// The clouds' fields at the frame's instant (they move with the wind).
+    clouds: Option<(Option<LowField>, Option<HighField>)>,
 }
 
 impl EnvKey {
@@ -70,6 +75,7 @@ impl EnvKey {
                 .collect(),
             observer_km: state.observer_altitude_km,
             bodies: bodies.map(|b| b.is_some()),
+            clouds: plan.clouds.as_ref().map(|c| (c.low, c.high)),
         }
     }
 
@@ -90,6 +96,7 @@ impl EnvKey {
             && self.directions == now.directions
             && self.moon_scale.is_some() == now.moon_scale.is_some()
             && self.bodies == now.bodies
+            && self.clouds == now.clouds
             && (self.sun_scale / now.sun_scale - 1.0).abs() < 1e-3
             && (self.observer_km - now.observer_km).abs() < 1e-3
             && ds <= tolerance_deg
@@ -213,6 +220,7 @@ impl WgpuRenderer {
             air: air.as_ref(),
             shadows: plan.runs(Effect::Shadows),
             godrays: plan.runs(Effect::Godrays),
+            clouds: plan.clouds.as_ref(),
         };
         stats.extend(self.lighting.render(&self.gpu, &inputs, target)?);
         Ok(stats)

@@ -209,3 +209,48 @@ fn moonlit_stratocumulus_dims_the_stars() {
     assert!(n >= 20 && dimmed >= 5, "{n} star pixels, {dimmed} dimmed");
     assert!(worst <= 0.05, "kept fractions differ by {worst}");
 }
+
+/// Cumulus over a mountain 3 km up (the layer at 3.5–4.6 km above sea
+/// level): the ground below the horizon, 3 km down, takes the clouds'
+/// shadows where the view rays meet it
+/// (`CloudFrame::shade_ground`), on the GPU as on the CPU; the shadows
+/// show (the ground's luminance varies from pixel to pixel, the clear
+/// sky's ground is one colour).
+#[test]
+fn cloud_shadows_on_the_ground_from_a_mountain() {
+    let mut s = scene("2024-06-21T11:00:00Z", Projection::Equirect, 160, 80);
+    s.effects = DAY.to_vec();
+    s.observer.elevation_m = 3000.0;
+    let s = cloudy(s, |c| {
+        c.low.coverage = 0.5;
+        c.low.kind = LowCloudKind::Cumulus;
+        c.low.base_km = 3.5;
+        c.low.top_km = 4.6;
+    });
+    let (c, _) = cloud_parity("cumulus 0.5 over a 3 km summit, equirect 160×80", &s);
+    let s0 = clear(&s);
+    let c0 = cpu(&s0, &SkyState::at(&s0).expect("state"));
+    // The rows from 5.6° below the horizontal (beyond the horizon's dip,
+    // 1.8°) to the nadir look at the ground, 0–30 km away.
+    let (w, h) = (160usize, 80usize);
+    let ground: Vec<(f64, f64)> = (42..h)
+        .flat_map(|j| (0..w).map(move |i| j * w + i))
+        .map(|i| {
+            (
+                luminance(c.pixels[i]) as f64,
+                luminance(c0.pixels[i]) as f64,
+            )
+        })
+        .collect();
+    let clear_spread = ground
+        .iter()
+        .fold((f64::MAX, 0.0f64), |(a, b), g| (a.min(g.1), b.max(g.1)));
+    assert!(clear_spread.1 - clear_spread.0 <= 1e-6 * clear_spread.1);
+    let lo = ground.iter().map(|g| g.0).fold(f64::MAX, f64::min);
+    let hi = ground.iter().map(|g| g.0).fold(0.0f64, f64::max);
+    println!(
+        "ground under cumulus from 3 km: {lo:.1}–{hi:.1} cd/m² (clear {:.1})",
+        clear_spread.1
+    );
+    assert!(hi > 1.5 * lo, "no shadow pattern: {lo} {hi}");
+}

@@ -51,7 +51,7 @@ pub const CLOUDS_WGSL: &str = concat!(
 
 /// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
 /// cloud fields, the model's constants, the lights and the aerial
-/// perspective's inputs. 400 bytes.
+/// perspective's inputs, the ground's cloud shadows. 464 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CloudUniforms {
@@ -169,11 +169,23 @@ pub struct CloudUniforms {
     pub close_from: f32,
     /// `field::CLOSE_DECK`.
     pub close_deck: f32,
-    /// Padding.
-    pub _pad2: [f32; 2],
+    /// `CloudFrame::ground_direct`'s length (0–2).
+    pub ground_count: u32,
+    /// 1 when the observer stands on the ground (`ground_at_observer`
+    /// serves every ground pixel).
+    pub ground_flat: u32,
+    /// The first ground light's direction and its transmittance at the
+    /// observer (w).
+    pub ground0_dir: [f32; 4],
+    /// The first ground light's direct part of the ground, cd/m².
+    pub ground0_rgb: [f32; 4],
+    /// The second ground light's direction and transmittance.
+    pub ground1_dir: [f32; 4],
+    /// The second ground light's direct part of the ground.
+    pub ground1_rgb: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 400);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 464);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -250,6 +262,17 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
         u.high_altitude_km = f.altitude_km;
         u.high_optical_depth = f.optical_depth;
         u.high_seed = f.seed;
+    }
+    u.ground_count = c.ground_direct.len().min(2) as u32;
+    u.ground_flat = (c.shell.r_observer - c.shell.r_ground < 1e-3) as u32;
+    for (k, g) in c.ground_direct.iter().take(2).enumerate() {
+        let t = c.ground_at_observer.get(k).copied().unwrap_or(1.0);
+        let (d, rgb) = match k {
+            0 => (&mut u.ground0_dir, &mut u.ground0_rgb),
+            _ => (&mut u.ground1_dir, &mut u.ground1_rgb),
+        };
+        *d = g.dir.extend(t).to_array();
+        *rgb = [g.rgb[0], g.rgb[1], g.rgb[2], 0.0];
     }
     let lights = c.light_sources();
     u.light_count = lights.len().min(2) as u32;
@@ -446,7 +469,12 @@ mod tests {
                 air_moon_scale,
                 close_from,
                 close_deck,
-                _pad2,
+                ground_count,
+                ground_flat,
+                ground0_dir,
+                ground0_rgb,
+                ground1_dir,
+                ground1_rgb,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);

@@ -98,7 +98,18 @@ struct Clouds {
     // field.rs `CLOSE_FROM`, `CLOSE_DECK` (the deck closing at high coverage)
     close_from: f32,
     close_deck: f32,
-    _pad2: vec2<f32>,
+    // cloud_shadow.rs `CloudFrame::shade_ground`: the number of ground
+    // lights (`CloudFrame::ground_direct`) and 1 when the observer stands
+    // on the ground (every ground pixel then takes the transmittance at
+    // the observer, `ground_at_observer`)
+    ground_count: u32,
+    ground_flat: u32,
+    // per ground light: unit ENU direction (xyz) and the transmittance at
+    // the observer (w); the direct part of the ground's luminance (cd/m²)
+    ground0_dir: vec4<f32>,
+    ground0_rgb: vec4<f32>,
+    ground1_dir: vec4<f32>,
+    ground1_rgb: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;
@@ -630,10 +641,98 @@ fn air(view: vec3<f32>, d_km: f32) -> Air {
     return out;
 }
 
+// march.rs `optical_depth_ray`: the low layer from `pos` along `dir`.
+fn optical_depth_ray(pos: vec3<f32>, dir: vec3<f32>) -> f32 {
+    let r = length(pos);
+    let sl = slab_from(r, dot(pos, dir) / r, clouds.low_base_km, clouds.low_top_km);
+    if (sl.z == 0.0) {
+        return 0.0;
+    }
+    let t1 = min(sl.y, sl.x + clouds.max_march_km);
+    let n = step_count(t1 - sl.x, clouds.low_top_km - clouds.low_base_km, clouds.steps);
+    let dt = (t1 - sl.x) / f32(n);
+    var tau = 0.0;
+    for (var s = 0u; s < n; s = s + 1u) {
+        let p = pos + dir * (sl.x + (f32(s) + 0.5) * dt);
+        tau = tau + low_extinction(p.xy, length(p) - clouds.r_ground) * dt;
+    }
+    return tau;
+}
+
+// cloud_shadow.rs `CloudFrame::transmittance_towards`.
+fn transmittance_towards(pos: vec3<f32>, dir: vec3<f32>) -> f32 {
+    var tau = 0.0;
+    if (clouds.has_low != 0u) {
+        tau = tau + optical_depth_ray(pos, dir);
+    }
+    if (clouds.has_high != 0u) {
+        let r_layer = clouds.r_ground + clouds.high_altitude_km;
+        let r = length(pos);
+        let mu = dot(pos, dir) / r;
+        let disc = r * r * (mu * mu - 1.0) + r_layer * r_layer;
+        if (r < r_layer && disc >= 0.0) {
+            let t = -r * mu + sqrt(disc);
+            let p = pos + dir * t;
+            let mu_l = max(dot(dir, p / length(p)), 1e-3);
+            tau = tau + high_optical_depth(p.xy) / mu_l;
+        }
+    }
+    return exp(-tau);
+}
+
+// cloud_shadow.rs `CloudFrame::ground_point`.
+fn ground_point(view: vec3<f32>) -> vec3<f32> {
+    let r = clouds.r_observer;
+    let rg = clouds.r_ground;
+    let eye = vec3<f32>(0.0, 0.0, r);
+    if (r - rg < 1e-3) {
+        return eye;
+    }
+    let mu = view.z;
+    let disc = r * r * (mu * mu - 1.0) + rg * rg;
+    if (disc >= 0.0 && mu < 0.0) {
+        return eye + view * (-r * mu - sqrt(disc));
+    }
+    // The tangent ray: depressed by the dip, cos(dip) = rg / r.
+    var h = vec3<f32>(1.0, 0.0, 0.0);
+    let hl = length(view.xy);
+    if (hl > 0.0) {
+        h = vec3<f32>(view.xy / hl, 0.0);
+    }
+    let cos_dip = rg / r;
+    let tangent = h * cos_dip - vec3<f32>(0.0, 0.0, sqrt(max(1.0 - cos_dip * cos_dip, 0.0)));
+    return eye + tangent * sqrt(max(r * r - rg * rg, 0.0));
+}
+
+// cloud_shadow.rs `CloudFrame::shade_ground`: a ground pixel's direct
+// light shadowed by the clouds.
+fn shade_ground(view: vec3<f32>, px: vec3<f32>) -> vec3<f32> {
+    if (view.z >= 0.0 || clouds.ground_count == 0u) {
+        return px;
+    }
+    let p = ground_point(view);
+    var out = px;
+    for (var k = 0u; k < min(clouds.ground_count, 2u); k = k + 1u) {
+        var g = clouds.ground0_dir;
+        var rgb = clouds.ground0_rgb.xyz;
+        if (k == 1u) {
+            g = clouds.ground1_dir;
+            rgb = clouds.ground1_rgb.xyz;
+        }
+        var t = g.w;
+        if (clouds.ground_flat == 0u) {
+            t = transmittance_towards(p, g.xyz);
+        }
+        out = max(out - rgb * (1.0 - t), vec3<f32>(0.0));
+    }
+    return out;
+}
+
 // `CloudFrame::composite`: `behind` seen through the high layer, then the
-// low one, with the air in front of each.
+// low one, with the air in front of each (a ground pixel's direct light
+// shadowed first).
 fn composite(view: vec3<f32>, behind: vec3<f32>) -> vec3<f32> {
-    var px = behind;
+    var px = shade_ground(view, behind);
     for (var layer = 0u; layer < 2u; layer = layer + 1u) {
         var hit: CloudHit;
         if (layer == 0u) {

@@ -633,14 +633,7 @@ impl SkyView {
             h,
             data: rows.into_iter().flatten().collect(),
         };
-        let r0 = luts.medium.bottom
-            + input
-                .observer_altitude_km
-                .clamp(0.0, luts.medium.top - luts.medium.bottom - 0.01);
-        let tsun = luts.sun_transmittance(r0, clamp_cosine(input.sun_sin_elevation));
-        let weights = BandWeights::solar();
-        let direct = weights.to_rgb(&tsun);
-        let mu_s = input.sun_sin_elevation.max(0.0);
+        let (tsun, ground_direct) = Self::ground_direct(luts, input);
         // Diffuse horizontal illuminance: ∫ L sin(e) dΩ over the upper
         // hemisphere (both halves of the Sun-symmetric sky).
         let (ne, na) = (64usize, 64usize);
@@ -665,8 +658,7 @@ impl SkyView {
         let albedo = luts.medium.albedo / std::f32::consts::PI;
         let mut ground_rgb = [0.0f32; 3];
         for k in 0..3 {
-            ground_rgb[k] =
-                albedo * (direct[k] * mu_s * input.irradiance_scale + diffuse[k] as f32);
+            ground_rgb[k] = ground_direct[k] + albedo * diffuse[k] as f32;
         }
         SkyView {
             lut,
@@ -674,6 +666,24 @@ impl SkyView {
             sun_transmittance: tsun,
             sky_illuminance_lux: 0.2126 * diffuse[0] + 0.7152 * diffuse[1] + 0.0722 * diffuse[2],
         }
+    }
+
+    /// The direct-beam transmittance at the observer towards the light of
+    /// `input` and the part of the ground's luminance below the horizon
+    /// that the light's direct beam gives: albedo/π × E_direct × sin(h)
+    /// (linear sRGB, cd/m²; the rest of [`SkyView::ground_rgb`] is the
+    /// sky's diffuse light). Cloud shadows dim this part.
+    pub fn ground_direct(luts: &AtmosphereLuts, input: &SkyViewInput) -> (Spectrum, [f32; 3]) {
+        let r0 = luts.medium.bottom
+            + input
+                .observer_altitude_km
+                .clamp(0.0, luts.medium.top - luts.medium.bottom - 0.01);
+        let tsun = luts.sun_transmittance(r0, clamp_cosine(input.sun_sin_elevation));
+        let direct = BandWeights::solar().to_rgb(&tsun);
+        let mu_s = input.sun_sin_elevation.max(0.0);
+        let albedo = luts.medium.albedo / std::f32::consts::PI;
+        let rgb = direct.map(|d| albedo * (d * mu_s * input.irradiance_scale));
+        (tsun, rgb)
     }
 
     /// Single-threaded sky-view computation.

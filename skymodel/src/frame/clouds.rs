@@ -38,7 +38,7 @@ use glam::{DVec3, Vec3};
 use super::lights::sky_horizontal_rgb;
 use super::lights::AerialPerspective;
 use super::sky_light::SkyInputs;
-use crate::atmosphere::AtmosphereLuts;
+use crate::atmosphere::{AtmosphereLuts, SkyView};
 use crate::clouds::{
     march_low, shade_high, CloudHit, CloudLight, HighField, LowField, MarchSettings,
     MultipleScattering, Shell, DIFFUSION, OCTAVES,
@@ -77,6 +77,16 @@ pub struct SeenHit {
     pub air_transmittance: [f32; 3],
 }
 
+/// A light's direct part of the ground's luminance below the horizon.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GroundLight {
+    /// Unit ENU direction towards the light.
+    pub dir: Vec3,
+    /// albedo/π × E_direct × sin h, linear sRGB, cd/m²
+    /// ([`crate::atmosphere::SkyView::ground_direct`]).
+    pub rgb: [f32; 3],
+}
+
 /// Everything the clouds pass of one frame needs.
 #[derive(Debug, Clone)]
 pub struct CloudFrame {
@@ -92,6 +102,15 @@ pub struct CloudFrame {
     pub march_stride: u32,
     /// The sky's mean downward radiance, linear sRGB, cd/m².
     pub ambient_rgb: [f32; 3],
+    /// The direct part of the ground's luminance below the horizon, per
+    /// light of the sky model (the Sun's, then the Moon's; none without
+    /// the atmosphere pass), which cloud shadows dim
+    /// ([`CloudFrame::shade_ground`]).
+    pub ground_direct: Vec<GroundLight>,
+    /// Each [`Self::ground_direct`] light's transmittance through the
+    /// layers from the observer's place (the ground pixels' of an
+    /// observer on the ground).
+    pub ground_at_observer: Vec<f32>,
     lights: Vec<FrameLight>,
     luts: Option<Arc<AtmosphereLuts>>,
     sky_inputs: Option<SkyInputs>,
@@ -137,7 +156,17 @@ impl CloudFrame {
         }
         let ambient_rgb =
             sky_horizontal_rgb.map_or([0.0; 3], |e| e.map(|v| (v / std::f64::consts::PI) as f32));
-        CloudFrame {
+        let ground_direct: Vec<GroundLight> = match (&luts, &sky_inputs) {
+            (Some(l), Some(i)) => std::iter::once((i.sun, i.sun_dir))
+                .chain(i.moon)
+                .map(|(input, dir)| GroundLight {
+                    dir,
+                    rgb: SkyView::ground_direct(l, &input).1,
+                })
+                .collect(),
+            _ => Vec::new(),
+        };
+        let mut frame = CloudFrame {
             low: c.has_low().then(|| LowField::new(&c.low, seconds)),
             high: c.has_high().then(|| HighField::new(&c.high, seconds)),
             shell,
@@ -151,11 +180,20 @@ impl CloudFrame {
             },
             march_stride: c.low.march_stride,
             ambient_rgb,
+            ground_direct,
+            ground_at_observer: Vec::new(),
             lights,
             luts,
             sky_inputs,
             weights: BandWeights::solar(),
-        }
+        };
+        let eye = Vec3::new(0.0, 0.0, frame.shell.r_observer);
+        frame.ground_at_observer = frame
+            .ground_direct
+            .iter()
+            .map(|g| frame.transmittance_towards(eye, g.dir))
+            .collect();
+        frame
     }
 
     /// The frame's lights: unit ENU direction and spectrum outside the
@@ -238,7 +276,7 @@ impl CloudFrame {
     /// [`CloudFrame::composite`] with the low layer along `view` given
     /// (from an amortised grid, [`super::LowCloudGrid`]).
     pub fn composite_with(&self, view: Vec3, behind: [f32; 3], low: SeenHit) -> [f32; 3] {
-        let mut px = behind;
+        let mut px = self.shade_ground(view, behind);
         for s in [self.seen(view, self.high_hit(view)), low] {
             let t = s.hit.transmittance;
             if t >= 1.0 - CLEAR {

@@ -32,6 +32,7 @@
 //!   atmosphere, the sky's horizontal illuminance, the aerial perspective.
 
 pub mod cloud_grid;
+pub mod cloud_shadow;
 pub mod clouds;
 pub mod lights;
 pub mod luts;
@@ -49,7 +50,8 @@ use std::time::Instant as Clock;
 use glam::DVec3;
 
 pub use cloud_grid::LowCloudGrid;
-pub use clouds::{CloudFrame, SeenHit};
+pub use cloud_shadow::CloudShadowMap;
+pub use clouds::{CloudFrame, GroundLight, SeenHit};
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
 pub use luts::{LutOrigin, LutProgress, LutStore};
 pub use moon::MoonFrame;

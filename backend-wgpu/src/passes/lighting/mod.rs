@@ -18,6 +18,7 @@
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
 
+pub mod cloud_shadow;
 pub mod env;
 pub mod godrays;
 pub mod mesh;
@@ -59,6 +60,7 @@ pub struct ShadeUniforms {
     cascade_info: [[f32; 4]; 8],
     shafts: [f32; 4],
     shaft_q: [u32; 4],
+    clouds: [f32; 4],
 }
 
 /// The G-buffer camera (`GCamera` in gbuffer.wgsl).
@@ -87,6 +89,9 @@ pub struct WorldInputs<'a> {
     pub shadows: bool,
     /// Whether the godrays pass runs (the plan's decision).
     pub godrays: bool,
+    /// The frame's clouds, whose shadows fall on the world (`None`: no
+    /// clouds pass).
+    pub clouds: Option<&'a himmel_skymodel::frame::CloudFrame>,
 }
 
 /// Why the shadow maps of the last frame still hold.
@@ -112,6 +117,7 @@ pub struct LightingPasses {
     sun_layers: u32,
     prev_view_proj: Option<Mat4>,
     shafts: godrays::Shafts,
+    clouds: cloud_shadow::CloudShadows,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -184,6 +190,7 @@ impl LightingPasses {
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
         stats.push(self.visibility_step(gpu, inputs)?);
         let shadows = self.shadow_step(gpu, inputs, &cam)?;
+        stats.extend(self.cloud_shadow_step(gpu, inputs, &cam));
         let (lit, shafts) = self.lighting_step(gpu, inputs, &cam, target)?;
         stats.push(lit);
         stats.extend(shadows);
@@ -346,6 +353,23 @@ impl LightingPasses {
         Ok(Some(stat("shadows", true, Some(ms(t)), None)))
     }
 
+    /// Step 3b: the clouds' shadows over the world (when a clouds pass
+    /// runs).
+    fn cloud_shadow_step(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &WorldInputs,
+        cam: &WorldCamera,
+    ) -> Option<PassStat> {
+        let dir = |l: &Option<DirectLight>| l.map(|l| l.dir_world().as_vec3().normalize());
+        let lights =
+            [dir(&inputs.direct.sun), dir(&inputs.direct.moon)].map(|d| d.filter(|d| d.y > 0.0));
+        let ground = inputs.scene.world.as_ref().is_some_and(|w| w.ground);
+        let bounds = self.world.as_ref().and_then(|w| w.bounds);
+        self.clouds
+            .update(gpu, inputs.clouds, lights, bounds, ground, cam.eye)
+    }
+
     /// Step 4: the light shafts' march (when `godrays` runs), then the
     /// lighting pass into the target. Returns their `--stats` entries.
     fn lighting_step(
@@ -383,6 +407,7 @@ impl LightingPasses {
             tables.env_scale(),
             &self.shadow_views,
             self.sun_layers,
+            self.clouds.uniform(),
         );
         let ubuf = tables.uniforms(gpu, bytemuck::bytes_of(&u));
         let missing = || RenderError::Device("light maps missing".into());
@@ -405,6 +430,7 @@ impl LightingPasses {
             None
         };
         let shafts_view = self.shafts.view(gpu, inputs.godrays);
+        let cloud_map = self.clouds.view(gpu);
         let out = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
             ..Default::default()
@@ -460,6 +486,10 @@ impl LightingPasses {
                     binding: 4,
                     resource: tv(shafts_view),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: tv(cloud_map),
+                },
             ],
         });
         let mut enc = gpu.device.create_command_encoder(&Default::default());
@@ -496,6 +526,7 @@ fn shade_uniforms(
     env_scale: f32,
     shadow_views: &[LightView],
     sun_layers: u32,
+    cloud_uniform: [f32; 4],
 ) -> ShadeUniforms {
     let scene = inputs.scene;
     let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
@@ -564,6 +595,7 @@ fn shade_uniforms(
         cascade_info,
         shafts,
         shaft_q,
+        clouds: cloud_uniform,
     }
 }
 

@@ -35,6 +35,9 @@ struct Shade {
     shafts: vec4<f32>,
     // March steps, interleave N, resolution divisor, sky cells per step.
     shaft_q: vec4<u32>,
+    // The cloud-shadow map (cloud_shadow.rs): least corner x, z (m),
+    // 1 / side (1/m), texels per side (0: no clouds).
+    clouds: vec4<f32>,
 }
 
 struct SkyCell {

@@ -20,6 +20,8 @@
 // * aerial perspective: in-scattering L_air and transmittance T_air of the
 //   air between the eye and the point, from a froxel table the sky model
 //   computes (frame/lights.rs).
+// * cloud shadows: the Sun's and the Moon's light × the clouds'
+//   transmittance towards them (`cloud_transmittance`);
 // * light shafts (godrays.wgsl, when the pass runs): the fog's
 //   in-scattering along the view ray, marched at a reduced resolution, is
 //   gathered here by depth over the interleaved N × N block and added
@@ -70,6 +72,9 @@ struct CellPart {
 // The godrays pass's in-scattering (rgb, cd/m²), at 1 / shaft_q.z of the
 // resolution.
 @group(1) @binding(4) var shafts_in: texture_2d<f32>;
+// The clouds' transmittance towards the Sun (r) and the Moon (g) over the
+// ground plane (cloud_shadow.rs).
+@group(1) @binding(8) var cloud_t: texture_2d<f32>;
 
 const SPECULAR_LEVELS: f32 = 5.0;
 
@@ -356,6 +361,28 @@ fn directional(s: Surface, p: vec3<f32>, ld: vec3<f32>, rgb: vec4<f32>, first: u
     return f * e * vis;
 }
 
+// The clouds' transmittance towards the light `ld` of channel k (0 the
+// Sun, 1 the Moon) from p: the cloud-shadow map, bilinear, where p's ray
+// towards the light crosses y = 0 (the clouds lie far above any world).
+fn cloud_transmittance(p: vec3<f32>, ld: vec3<f32>, k: u32) -> f32 {
+    let n = u.clouds.w;
+    if n < 0.5 {
+        return 1.0;
+    }
+    let q = p.xz - ld.xz * (p.y / max(ld.y, 0.02));
+    let st = (q - u.clouds.xy) * u.clouds.z * n - 0.5;
+    let i0 = floor(st);
+    let f = clamp(st - i0, vec2<f32>(0.0), vec2<f32>(1.0));
+    let top = vec2<f32>(n - 1.0);
+    let a = vec2<i32>(clamp(i0, vec2<f32>(0.0), top));
+    let b = vec2<i32>(clamp(i0 + 1.0, vec2<f32>(0.0), top));
+    let t00 = textureLoad(cloud_t, vec2<i32>(a.x, a.y), 0)[k];
+    let t10 = textureLoad(cloud_t, vec2<i32>(b.x, a.y), 0)[k];
+    let t01 = textureLoad(cloud_t, vec2<i32>(a.x, b.y), 0)[k];
+    let t11 = textureLoad(cloud_t, vec2<i32>(b.x, b.y), 0)[k];
+    return mix(mix(t00, t10, f.x), mix(t01, t11, f.x), f.y);
+}
+
 fn equirect_uv(d: vec3<f32>) -> vec2<f32> {
     let az = atan2(d.x, -d.z);
     let u0 = az / (2.0 * PI);
@@ -548,10 +575,12 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     var l = vec3<f32>(0.0);
     // The Sun and the Moon.
     if u.sun_dir.w > 0.5 {
-        l += directional(s, p, u.sun_dir.xyz, u.sun_rgb, 0u, u.counts.y, view_depth, depth_in_fog, gid.xy);
+        l += directional(s, p, u.sun_dir.xyz, u.sun_rgb, 0u, u.counts.y, view_depth, depth_in_fog, gid.xy)
+            * cloud_transmittance(p, u.sun_dir.xyz, 0u);
     }
     if u.moon_dir.w > 0.5 {
-        l += directional(s, p, u.moon_dir.xyz, u.moon_rgb, u.flags.y, u.counts.z, view_depth, depth_in_fog, gid.xy);
+        l += directional(s, p, u.moon_dir.xyz, u.moon_rgb, u.flags.y, u.counts.z, view_depth, depth_in_fog, gid.xy)
+            * cloud_transmittance(p, u.moon_dir.xyz, 1u);
     }
     // The sky: the irradiance of the interleaved sets, averaged over the
     // N × N block around the pixel where the surface continues.
