@@ -710,6 +710,11 @@ fn shade_ground(view: vec3<f32>, px: vec3<f32>) -> vec3<f32> {
     if (view.z >= 0.0 || clouds.ground_count == 0u) {
         return px;
     }
+    let r = clouds.r_observer;
+    let rg = clouds.r_ground;
+    if (clouds.ground_flat == 0u && r * r * (view.z * view.z - 1.0) + rg * rg < 0.0) {
+        return px;
+    }
     let p = ground_point(view);
     var out = px;
     for (var k = 0u; k < min(clouds.ground_count, 2u); k = k + 1u) {

@@ -97,12 +97,20 @@ impl CloudFrame {
     /// `px` (a ground pixel's radiance, cd/m², seen along `view` below
     /// the horizon) with each light's direct part shadowed by the clouds
     /// between the ground point and the light (none above the horizon,
-    /// or without the atmosphere pass, which alone draws the ground).
+    /// or without the atmosphere pass, which alone draws the ground). An
+    /// elevated observer's rays between the horizontal and the dip of the
+    /// horizon, which meet no ground short of the horizon hundreds of
+    /// kilometres away (beyond the layer's longest march,
+    /// [`crate::clouds::march::MAX_MARCH_KM`]), are left unshadowed.
     pub fn shade_ground(&self, view: Vec3, px: [f32; 3]) -> [f32; 3] {
         if view.z >= 0.0 || self.ground_direct.is_empty() {
             return px;
         }
-        let flat = self.shell.r_observer - self.shell.r_ground < 1e-3;
+        let (r, rg) = (self.shell.r_observer, self.shell.r_ground);
+        let flat = r - rg < 1e-3;
+        if !flat && r * r * (view.z * view.z - 1.0) + rg * rg < 0.0 {
+            return px;
+        }
         let p = self.ground_point(view);
         let mut out = px;
         for (k, g) in self.ground_direct.iter().enumerate() {

@@ -7,11 +7,12 @@
 //!
 //! The map covers the world's bounds as their shadows fall (each corner
 //! projected along each light onto the ground) and, with `world.ground`,
-//! the ground plane out to [`GROUND_REACH_M`] around the eye (beyond it
-//! the map's edge texels hold); its texels are at most [`TEXEL_M`] wide
-//! (cumulus cells are hundreds of metres across), at most [`MAX_TEXELS`]
-//! per side. It is rebuilt only when the clouds, the lights or the
-//! footprint changed.
+//! the ground plane out to [`GROUND_REACH_M`] around the eye; beyond it
+//! the ground takes the map's mean transmittance (kept in an extra row of
+//! the texture), where the aerial perspective already veils the ground.
+//! Its texels are at most [`TEXEL_M`] wide (cumulus cells are hundreds of
+//! metres across), at most [`MAX_TEXELS`] per side. It is rebuilt only
+//! when the clouds, the lights or the footprint changed.
 
 use glam::Vec3;
 use himmel_skymodel::clouds::{HighField, LowField, MarchSettings, Shell};
@@ -26,7 +27,7 @@ pub const TEXEL_M: f32 = 25.0;
 /// The most texels per side.
 pub const MAX_TEXELS: usize = 128;
 /// How far around the eye the map covers a ground plane, m.
-pub const GROUND_REACH_M: f32 = 1600.0;
+pub const GROUND_REACH_M: f32 = 8000.0;
 /// The lowest light (sine of its altitude) whose shadow is projected.
 const MIN_SIN_ALT: f32 = 0.02;
 
@@ -137,8 +138,17 @@ impl CloudShadows {
         }
         let dirs = lights.map(|l| l.unwrap_or(Vec3::NEG_Y));
         let map = c.shadow_map(&dirs, origin_m, size_m, n);
-        let texels: Vec<f32> = map.texels.iter().flatten().copied().collect();
-        let tex = rg_texture(gpu, "cloud shadows", n as u32, &texels);
+        let mut texels: Vec<f32> = map.texels.iter().flatten().copied().collect();
+        // The extra row: the mean transmittance, for the ground beyond.
+        let mean = map
+            .texels
+            .iter()
+            .fold([0.0f64; 2], |m, t| [m[0] + t[0] as f64, m[1] + t[1] as f64]);
+        let count = map.texels.len().max(1) as f64;
+        for _ in 0..n {
+            texels.extend(mean.map(|m| (m / count) as f32));
+        }
+        let tex = rg_texture(gpu, "cloud shadows", [n as u32, n as u32 + 1], &texels);
         self.texture = Some(tex);
         self.key = Some(key);
         Some(stat(true, Some(t.elapsed().as_secs_f64() * 1e3), None))
@@ -159,21 +169,21 @@ impl CloudShadows {
         }
         &self
             .white
-            .get_or_insert_with(|| rg_texture(gpu, "no cloud shadows", 1, &[1.0, 1.0]))
+            .get_or_insert_with(|| rg_texture(gpu, "no cloud shadows", [1, 1], &[1.0, 1.0]))
             .1
     }
 }
 
-/// An `n` × `n` rg32float texture holding `texels` (row-major pairs).
+/// A `w` × `h` rg32float texture holding `texels` (row-major pairs).
 fn rg_texture(
     gpu: &Gpu,
     label: &str,
-    n: u32,
+    [w, h]: [u32; 2],
     texels: &[f32],
 ) -> (wgpu::Texture, wgpu::TextureView) {
     let size = wgpu::Extent3d {
-        width: n,
-        height: n,
+        width: w,
+        height: h,
         depth_or_array_layers: 1,
     };
     let tex = gpu.device.create_texture(&wgpu::TextureDescriptor {
@@ -196,8 +206,8 @@ fn rg_texture(
         bytemuck::cast_slice(texels),
         wgpu::TexelCopyBufferLayout {
             offset: 0,
-            bytes_per_row: Some(8 * n),
-            rows_per_image: Some(n),
+            bytes_per_row: Some(8 * w),
+            rows_per_image: Some(h),
         },
         size,
     );
@@ -221,7 +231,10 @@ mod tests {
         let sun = Vec3::new(1.0, std::f32::consts::SQRT_2, 1.0).normalize();
         let (o, s) = footprint(Some(b), false, Vec3::ZERO, &[sun]).expect("footprint");
         let reach = 10.0 / std::f32::consts::SQRT_2;
-        assert!(o[0] <= -1.0 - reach + 0.01 && o[1] <= -1.0 - reach + 0.01, "{o:?}");
+        assert!(
+            o[0] <= -1.0 - reach + 0.01 && o[1] <= -1.0 - reach + 0.01,
+            "{o:?}"
+        );
         assert!(o[0] + s >= 1.0 && o[1] + s >= 1.0, "{o:?} {s}");
         assert!(footprint(None, false, Vec3::ZERO, &[sun]).is_none());
         let (og, sg) = footprint(None, true, Vec3::new(5.0, 1.7, 0.0), &[sun]).expect("ground");

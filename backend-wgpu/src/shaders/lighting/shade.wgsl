@@ -363,14 +363,19 @@ fn directional(s: Surface, p: vec3<f32>, ld: vec3<f32>, rgb: vec4<f32>, first: u
 
 // The clouds' transmittance towards the light `ld` of channel k (0 the
 // Sun, 1 the Moon) from p: the cloud-shadow map, bilinear, where p's ray
-// towards the light crosses y = 0 (the clouds lie far above any world).
+// towards the light crosses y = 0 (the clouds lie far above any world);
+// beyond the map, its mean (the texture's extra row n).
 fn cloud_transmittance(p: vec3<f32>, ld: vec3<f32>, k: u32) -> f32 {
     let n = u.clouds.w;
     if n < 0.5 {
         return 1.0;
     }
     let q = p.xz - ld.xz * (p.y / max(ld.y, 0.02));
-    let st = (q - u.clouds.xy) * u.clouds.z * n - 0.5;
+    let uv = (q - u.clouds.xy) * u.clouds.z;
+    if any(uv < vec2<f32>(0.0)) || any(uv > vec2<f32>(1.0)) {
+        return textureLoad(cloud_t, vec2<i32>(0, i32(n)), 0)[k];
+    }
+    let st = uv * n - 0.5;
     let i0 = floor(st);
     let f = clamp(st - i0, vec2<f32>(0.0), vec2<f32>(1.0));
     let top = vec2<f32>(n - 1.0);
