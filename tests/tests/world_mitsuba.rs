@@ -71,6 +71,16 @@ fn measure(c: &Value) -> (String, f64, f64, f64) {
     let lit = mean_relative_error(&img, &reference, &mask_channel(&mask, SUNLIT));
     let sky = mean_relative_error(&img, &reference, &mask_channel(&mask, SKYLIT));
     let f = flip(&img, &reference, None);
+    if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
+        // The FLIP map, 0 black to 1 white, where the error lies.
+        let map = world_common::metrics::flip_map(&img, &reference);
+        let bytes: Vec<u8> = map.iter().map(|e| (e * 255.0).round() as u8).collect();
+        let p = std::path::Path::new(&d).join(format!("{name}_flip.png"));
+        image::GrayImage::from_raw(img.width as u32, img.height as u32, bytes)
+            .unwrap()
+            .save(p)
+            .unwrap();
+    }
     (name, lit, sky, f)
 }
 
