@@ -14,29 +14,28 @@
 //! the figures.
 
 mod wgpu_common;
+mod world_common;
 
-use glam::{DVec3, Vec3};
+use glam::Vec3;
 use himmel_skymodel::frame::lights::luminance;
 use himmel_skymodel::frame::CloudFrame;
 use himmel_skymodel::scene::LowCloudKind;
-use himmel_skymodel::{Effect, Projection, RenderOutput, Scene, SkyRenderer, SkyState, WorldSpec};
+use himmel_skymodel::{Effect, RenderOutput, Scene, SkyRenderer, SkyState, WorldSpec};
 use himmel_world::procedural::Builder;
 use himmel_world::{Material, World};
+use world_common::view::{ground_point, munich_view};
 
 /// A white (ρ = 0.5) plane 3 km across seen from 1.2 km straight above, at
 /// noon in Munich, with cumulus (coverage 0.65) when `clouds`, the Sun's light when `sun`.
 fn scene(clouds: bool, sun: bool) -> Scene {
-    let mut s = Scene::default();
-    s.time.utc = "2024-06-21T11:00:00Z".into();
-    s.observer.lat_deg = 48.14;
-    s.observer.lon_deg = 11.58;
-    s.camera.projection = Projection::Perspective;
-    s.camera.width = 64;
-    s.camera.height = 64;
-    s.camera.fov_deg = 90.0;
-    s.camera.position_m = Some([0.0, 1200.0, 0.0]);
-    s.camera.look_at_m = Some([0.0, 0.0, 0.0]);
-    s.camera.up = Some([0.0, 0.0, -1.0]);
+    let mut s = munich_view(
+        "2024-06-21T11:00:00Z",
+        [0.0, 1200.0, 0.0],
+        [0.0; 3],
+        [0.0, 0.0, -1.0],
+        (64, 64),
+        90.0,
+    );
     s.effects = vec![Effect::Atmosphere, Effect::World];
     if sun {
         s.effects.push(Effect::Sun);
@@ -67,14 +66,6 @@ fn plane() -> World {
 fn render(r: &mut himmel_wgpu::WgpuRenderer, s: &Scene) -> RenderOutput {
     let state = SkyState::at(s).expect("state");
     r.render(s, &state).expect("render")
-}
-
-/// Where the ray through pixel (x, y) meets the plane y = 0.
-fn ground_point(s: &Scene, x: usize, y: usize) -> Option<DVec3> {
-    let d = s.camera.pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5)?;
-    let d = himmel_skymodel::projection::scene_from_enu(d);
-    let eye = s.camera.eye_m();
-    (d.y < 0.0).then(|| eye + d * (-eye.y / d.y))
 }
 
 #[test]

@@ -11,12 +11,14 @@
 //!   sunlit sky outside (no leaks through the walls).
 
 mod wgpu_common;
+mod world_common;
 
 use glam::{DVec3, Vec3};
 use himmel_skymodel::frame::lights::luminance;
-use himmel_skymodel::{Effect, Projection, RenderOutput, Scene, SkyRenderer, SkyState, WorldSpec};
+use himmel_skymodel::{Effect, RenderOutput, Scene, SkyRenderer, SkyState, WorldSpec};
 use himmel_world::procedural::Builder;
 use himmel_world::{Material, World};
+use world_common::view::{ground_point, munich_view};
 
 /// A scene at `time` (Munich) seeing `world` from `eye` towards `at`.
 fn scene(
@@ -27,17 +29,7 @@ fn scene(
     size: (u32, u32),
     fov: f64,
 ) -> Scene {
-    let mut s = Scene::default();
-    s.time.utc = time.into();
-    s.observer.lat_deg = 48.14;
-    s.observer.lon_deg = 11.58;
-    s.camera.projection = Projection::Perspective;
-    s.camera.width = size.0;
-    s.camera.height = size.1;
-    s.camera.fov_deg = fov;
-    s.camera.position_m = Some(eye);
-    s.camera.look_at_m = Some(at);
-    s.camera.up = Some(up);
+    let mut s = munich_view(time, eye, at, up, size, fov);
     s.effects = vec![
         Effect::Atmosphere,
         Effect::Sun,
@@ -90,14 +82,6 @@ fn plane(b: &mut Builder, half: f32, rho: f32) {
             v(-half, 0.0, -half),
         ],
     );
-}
-
-/// Where the ray through pixel (x, y) meets the ground y = 0 (world frame).
-fn ground_point(s: &Scene, x: usize, y: usize) -> Option<DVec3> {
-    let d = s.camera.pixel_to_dir(x as f64 + 0.5, y as f64 + 0.5)?;
-    let d = himmel_skymodel::projection::scene_from_enu(d);
-    let eye = s.camera.eye_m();
-    (d.y < 0.0).then(|| eye + d * (-eye.y / d.y))
 }
 
 #[test]

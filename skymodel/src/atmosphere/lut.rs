@@ -551,15 +551,22 @@ impl SkyView {
             .all(|row| row[..=last].iter().all(|s| s.0.iter().all(|&v| v == 0.0)))
     }
 
+    /// The observer's radius of `input`, km (its altitude clamped inside
+    /// the atmosphere).
+    fn observer_radius(luts: &AtmosphereLuts, input: &SkyViewInput) -> f32 {
+        let m = &luts.medium;
+        m.bottom
+            + input
+                .observer_altitude_km
+                .clamp(0.0, m.top - m.bottom - 0.01)
+    }
+
     /// Computes one row `j` of the sky-view LUT as band transfer factors.
     pub fn row(luts: &AtmosphereLuts, input: &SkyViewInput, j: usize) -> Vec<[f32; 3]> {
         let cfg = &luts.config;
         let (w, h) = (cfg.sky_view_w, cfg.sky_view_h);
         let weights = BandWeights::solar();
-        let r0 = luts.medium.bottom
-            + input
-                .observer_altitude_km
-                .clamp(0.0, luts.medium.top - luts.medium.bottom - 0.01);
+        let r0 = Self::observer_radius(luts, input);
         let sun = Self::sun_local(input.sun_sin_elevation);
         let v = (j as f32 + 0.5) / h as f32;
         // The row's elevation, hence its view ray's march, is shared by
@@ -598,10 +605,7 @@ impl SkyView {
         let cfg = &luts.config;
         let (w, h) = (cfg.sky_view_w, cfg.sky_view_h);
         let weights = BandWeights::solar();
-        let r0 = luts.medium.bottom
-            + input
-                .observer_altitude_km
-                .clamp(0.0, luts.medium.top - luts.medium.bottom - 0.01);
+        let r0 = Self::observer_radius(luts, input);
         let sun = Self::sun_local(input.sun_sin_elevation);
         let v = (j as f32 + 0.5) / h as f32;
         let march = ViewMarch::new(
@@ -674,10 +678,7 @@ impl SkyView {
     /// (linear sRGB, cd/m²; the rest of [`SkyView::ground_rgb`] is the
     /// sky's diffuse light). Cloud shadows dim this part.
     pub fn ground_direct(luts: &AtmosphereLuts, input: &SkyViewInput) -> (Spectrum, [f32; 3]) {
-        let r0 = luts.medium.bottom
-            + input
-                .observer_altitude_km
-                .clamp(0.0, luts.medium.top - luts.medium.bottom - 0.01);
+        let r0 = Self::observer_radius(luts, input);
         let tsun = luts.sun_transmittance(r0, clamp_cosine(input.sun_sin_elevation));
         let direct = BandWeights::solar().to_rgb(&tsun);
         let mu_s = input.sun_sin_elevation.max(0.0);
