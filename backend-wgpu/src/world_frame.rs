@@ -213,6 +213,7 @@ impl WgpuRenderer {
             air: air.as_ref(),
             shadows: plan.runs(Effect::Shadows),
             godrays: plan.runs(Effect::Godrays),
+            ao: plan.runs(Effect::Ao),
         };
         stats.extend(self.lighting.render(&self.gpu, &inputs, target)?);
         Ok(stats)

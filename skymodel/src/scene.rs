@@ -122,6 +122,7 @@ impl Effect {
                 | Effect::World
                 | Effect::Shadows
                 | Effect::Godrays
+                | Effect::Ao
         )
     }
 

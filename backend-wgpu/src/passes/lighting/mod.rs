@@ -8,7 +8,11 @@
 //!    ([`env`]); built once per world and kept while it does not change;
 //! 3. **shadows** — the Sun's and the Moon's cascades ([`view::cascades`]),
 //!    rebuilt when the light or the camera moved;
-//! 4. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
+//! 4. **ambient occlusion** ([`ao`], `ao.wgsl`), when `ao` runs: AO and
+//!    bent normals from the G-buffer, which the lighting pass applies to
+//!    the sky's diffuse light only (see [`ao`] for how it meets the
+//!    visibility maps);
+//! 5. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
 //!    filtered shadows), the sky (occluded diffuse cells, prefiltered
 //!    specular), emission, fog and aerial perspective, written into the
 //!    target where the G-buffer has a surface; before it, when `godrays`
@@ -18,6 +22,7 @@
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
 
+pub mod ao;
 pub mod env;
 pub mod godrays;
 pub mod mesh;
@@ -87,6 +92,8 @@ pub struct WorldInputs<'a> {
     pub shadows: bool,
     /// Whether the godrays pass runs (the plan's decision).
     pub godrays: bool,
+    /// Whether the ao pass runs (the plan's decision).
+    pub ao: bool,
 }
 
 /// Why the shadow maps of the last frame still hold.
@@ -112,6 +119,7 @@ pub struct LightingPasses {
     sun_layers: u32,
     prev_view_proj: Option<Mat4>,
     shafts: godrays::Shafts,
+    ao: ao::Occlusion,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -182,6 +190,7 @@ impl LightingPasses {
         self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
         let cam = WorldCamera::new(&inputs.scene.camera);
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
+        stats.extend(self.ao_step(gpu, inputs, &cam)?);
         stats.push(self.visibility_step(gpu, inputs)?);
         let shadows = self.shadow_step(gpu, inputs, &cam)?;
         let (lit, shafts) = self.lighting_step(gpu, inputs, &cam, target)?;
@@ -222,6 +231,34 @@ impl LightingPasses {
         resources::gbuffer_pass(gpu, pipes, world, &gb, bytemuck::bytes_of(&camera), ground)?;
         self.gbuffer = Some(gb);
         Ok(stat("world/gbuffer", true, Some(ms(t)), None))
+    }
+
+    /// The AO image of the last frame that ran the ao pass.
+    pub fn ao_image(&self, gpu: &Gpu) -> Result<Option<ao::AoImage>, RenderError> {
+        self.ao.read_back(gpu)
+    }
+
+    /// Step 1b: ambient occlusion from the G-buffer, when `ao` runs; its
+    /// radius from the world's bounds unless `lighting.ao.radius_m` is set.
+    fn ao_step(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &WorldInputs,
+        cam: &WorldCamera,
+    ) -> Result<Option<PassStat>, RenderError> {
+        if !inputs.ao {
+            return Ok(None);
+        }
+        let (Some(world), Some(gb)) = (self.world.as_ref(), self.gbuffer.as_ref()) else {
+            return Err(RenderError::WorldMissing);
+        };
+        let Some(bounds) = world.bounds else {
+            let why = "the world has no geometry";
+            return Ok(Some(stat("ao", false, None, Some(why.into()))));
+        };
+        let s = &inputs.scene.lighting.ao;
+        let radius = s.radius_for(bounds.extent() as f64) as f32;
+        self.ao.run(gpu, gb, cam, s, radius).map(Some)
     }
 
     /// Step 2: the sky's visibility maps, kept while the world and the cells'
@@ -405,6 +442,7 @@ impl LightingPasses {
             None
         };
         let shafts_view = self.shafts.view(gpu, inputs.godrays);
+        let ao_view = self.ao.view(gpu, inputs.ao && world.bounds.is_some());
         let out = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
             ..Default::default()
@@ -459,6 +497,10 @@ impl LightingPasses {
                 wgpu::BindGroupEntry {
                     binding: 4,
                     resource: tv(shafts_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: tv(ao_view),
                 },
             ],
         });

@@ -24,6 +24,9 @@
 //   in-scattering along the view ray, marched at a reduced resolution, is
 //   gathered here by depth over the interleaved N × N block and added
 //   after the view ray's fog extinction.
+// * ambient occlusion (ao.wgsl, when the pass ran): the sky's diffuse
+//   irradiance × min(1, AO / open) — the smaller of the visibility maps'
+//   open fraction and AO (passes/lighting/ao.rs); never the Sun or Moon.
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -70,6 +73,9 @@ struct CellPart {
 // The godrays pass's in-scattering (rgb, cd/m²), at 1 / shaft_q.z of the
 // resolution.
 @group(1) @binding(4) var shafts_in: texture_2d<f32>;
+// The ao pass's bent normal (xyz) and AO (w); a 1 × 1 stand-in when it
+// did not run.
+@group(1) @binding(5) var ao_in: texture_2d<f32>;
 
 const SPECULAR_LEVELS: f32 = 5.0;
 
@@ -581,8 +587,11 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
             }
         }
-        let e = acc.rgb / max(wsum, 1.0);
+        var e = acc.rgb / max(wsum, 1.0);
         open = acc.a / max(wsum, 1.0);
+        if all(textureDimensions(ao_in) == vec2<u32>(w, h)) {
+            e *= min(1.0, textureLoad(ao_in, px, 0).w / max(open, 1e-3));
+        }
         let spec_vis = acc_s / max(wsum, 1.0);
         let r = reflect(ray, s.n);
         var sky_t = 1.0;
