@@ -11,12 +11,15 @@
 //! what the camera sees. Both estimate the fraction of the sky's light that
 //! reaches the surface, so multiplying them would count a blocker both see
 //! twice. The lighting pass therefore takes the smaller of the two: the
-//! sky's diffuse irradiance, which the maps have already reduced to the
-//! open fraction `open` of the sky, is scaled by min(1, AO / open) — AO
-//! darkens only where it finds more occlusion than the maps (creases,
-//! contacts), and never the Sun's or the Moon's light. (The maps' `open` is
-//! solid-angle weighted over the upper hemisphere, AO cosine-weighted about
-//! the normal: an approximation where the two differ.)
+//! sky's diffuse irradiance E, which the maps have already reduced, is
+//! compared with E_open, the same cells' irradiance with nothing in the way;
+//! their luminance ratio Y(E)/Y(E_open) is the maps' cosine-weighted
+//! visibility, and E is scaled by min(1, AO / that ratio) — AO darkens only
+//! where it finds more occlusion than the maps (creases, contacts), and
+//! never the Sun's or the Moon's light. (The maps' ratio is weighted by the
+//! sky's radiance, AO by a uniform sky: where a blocker hides the bright
+//! side of the sky the maps' ratio is the lower and AO changes nothing,
+//! which is right, as the maps see it directionally.)
 
 use himmel_skymodel::renderer::PassStat;
 use himmel_skymodel::{AoMethod, AoSettings, RenderError};
