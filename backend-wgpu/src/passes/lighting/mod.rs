@@ -331,8 +331,11 @@ impl LightingPasses {
             .bounds
             .filter(|_| inputs.shadows && (sun.is_some() || moon.is_some()))
         else {
+            // The maps are dropped: a later frame with the same lights and
+            // camera must draw them again, not reuse an empty set.
             self.shadow_views.clear();
             self.sun_layers = 0;
+            self.shadow_key = None;
             return Ok(None);
         };
         let key = ShadowKey {
