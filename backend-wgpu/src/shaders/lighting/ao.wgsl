@@ -4,7 +4,8 @@
 //   A = (1/π) ∫_Ω V_R(ω) (n·ω) dω,
 //
 // V_R(ω) = 0 where geometry lies closer than R along ω, and the bent normal
-// (the mean unblocked direction), from the G-buffer's distance and normal
+// (the cosine-weighted mean unblocked direction, ∫ ω V_R (n·ω) dω
+// normalised), from the G-buffer's distance and normal
 // alone (screen space: what the camera does not see does not occlude).
 //
 // * `gtao` (Jimenez et al. 2016, "Practical real-time strategies for
@@ -64,6 +65,8 @@ const PI: f32 = 3.14159265358979;
 const HALF_PI: f32 = 1.57079632679490;
 // The fraction of R over which a sample's weight fades to 0.
 const FALLOFF: f32 = 0.1;
+// Quadrature points of the bent normal's integral over a slice's arc.
+const BENT_POINTS: u32 = 16u;
 
 fn size() -> vec2<i32> {
     return vec2<i32>(i32(a.right.w), i32(a.up.w));
@@ -183,8 +186,15 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
         let slice_vis = nlen * (arc(h[0], g) + arc(h[1], g));
         vis += slice_vis;
         norm += nlen * (cos(g) + g * sin(g));
-        let hb = 0.5 * (h[0] + h[1]);
-        bent += (v * cos(hb) + ortho * sin(hb)) * slice_vis;
+        // The slice's share of ∫ ω (n·ω) dω over the open arc (midpoint
+        // rule; the slice's measure is |sin θ| dθ).
+        var m = vec2<f32>(0.0);
+        let dh = (h[1] - h[0]) / f32(BENT_POINTS);
+        for (var i = 0u; i < BENT_POINTS; i++) {
+            let th = h[0] + (f32(i) + 0.5) * dh;
+            m += vec2<f32>(cos(th), sin(th)) * (cos(th - g) * abs(sin(th)));
+        }
+        bent += (v * m.x + ortho * m.y) * (nlen * dh);
     }
     var ao = 1.0;
     if norm > 1e-6 {
