@@ -54,6 +54,7 @@ use himmel_skymodel::{Camera, Effect, FramePlan, Projection, Scene, SkyState, Un
 
 pub use frame::{GpuFrame, TARGET_FORMAT};
 pub use gpu::{Timing, WgpuError};
+pub use passes::lighting::ao::AoImage;
 pub use passes::luts::{self as luts, LutSource};
 pub use passes::moon::moon_uniforms;
 pub use passes::points::{point_lists, quad_scale, PointLists, PointMethod, POINT_TILE};
@@ -414,7 +415,7 @@ impl WgpuRenderer {
             for s in stats.iter_mut() {
                 match s.name.as_str() {
                     "world" => s.ms = Some(world_ms),
-                    "shadows" | "godrays" => {
+                    "shadows" | "godrays" | "ao" => {
                         if let Some(w) = world_stats.iter().find(|w| w.name == s.name) {
                             *s = w.clone();
                         }
@@ -425,7 +426,7 @@ impl WgpuRenderer {
             stats.extend(
                 world_stats
                     .into_iter()
-                    .filter(|s| s.name != "shadows" && s.name != "godrays"),
+                    .filter(|s| !matches!(s.name.as_str(), "shadows" | "godrays" | "ao")),
             );
         }
         Ok(GpuFrame {
@@ -542,9 +543,9 @@ impl WgpuRenderer {
                         add(Box::new(c));
                     }
                 }
-                // The world, its shadows and light shafts are drawn after
-                // the sky (world_frame.rs).
-                Effect::World | Effect::Shadows | Effect::Godrays => {}
+                // The world, its shadows, light shafts and ambient
+                // occlusion are drawn after the sky (world_frame.rs).
+                Effect::World | Effect::Shadows | Effect::Godrays | Effect::Ao => {}
                 other => {
                     // `--backend auto` then falls back to the CPU.
                     return Err(RenderError::Unavailable(Unavailable::PassNotPorted(other)));
@@ -609,6 +610,12 @@ impl WgpuRenderer {
     /// scene, so a real-time loop allocates only each frame's target texture.
     pub fn pooled_buffers(&self) -> usize {
         self.pool.len()
+    }
+
+    /// The ambient-occlusion image (AO and bent normals) of the last world
+    /// frame that ran the `ao` pass (`None` before the first).
+    pub fn ao_image(&self) -> Result<Option<AoImage>, RenderError> {
+        self.lighting.ao_image(&self.gpu)
     }
 
     /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H

@@ -221,6 +221,7 @@ impl WgpuRenderer {
             shadows: plan.runs(Effect::Shadows),
             godrays: plan.runs(Effect::Godrays),
             clouds: plan.clouds.as_ref(),
+            ao: plan.runs(Effect::Ao),
         };
         stats.extend(self.lighting.render(&self.gpu, &inputs, target)?);
         Ok(stats)

@@ -48,6 +48,7 @@
 #![allow(clippy::needless_range_loop)]
 
 pub mod angle;
+pub mod ao_spec;
 pub mod atmosphere;
 pub mod camera;
 pub mod cloud_spec;
@@ -78,6 +79,7 @@ pub mod texture_spec;
 pub mod units;
 pub mod world_spec;
 
+pub use ao_spec::{AoMethod, AoSettings};
 pub use camera::Exposure;
 pub use frame::{FramePlan, LutOrigin, LutStore};
 pub use plan::{PlannedPass, SkipReason};

@@ -45,6 +45,9 @@ pub enum SkipReason {
     NoShaftLight,
     /// Light shafts without fog, or in fog that does not scatter.
     NoFogScattering,
+    /// Ambient occlusion without the sky's light (the atmosphere pass not
+    /// requested): it multiplies nothing else.
+    NoSkyLight,
     /// The texture pass of a scene without `sky_texture`.
     NoTexture,
     /// The clouds pass of a scene without a cloud layer (both
@@ -176,6 +179,9 @@ impl std::fmt::Display for SkipReason {
             SkipReason::NoFogScattering => f.write_str(
                 "no fog scatters light (the scene has no fog, or its scattering_per_m is 0)",
             ),
+            SkipReason::NoSkyLight => f.write_str(
+                "no sky light to occlude (the atmosphere pass is not requested); AO multiplies only the sky's light",
+            ),
             SkipReason::NoTexture => f.write_str("no sky texture in the scene"),
             SkipReason::NoClouds => f.write_str(
                 "no cloud layer in the scene (clouds.low.coverage and clouds.high.coverage are 0)",
@@ -260,6 +266,7 @@ pub fn plan(
                     {
                         Some(SkipReason::NoShaftLight)
                     }
+                    Effect::Ao if !scene.wants(Effect::Atmosphere) => Some(SkipReason::NoSkyLight),
                     _ => None,
                 }
             };
@@ -300,8 +307,8 @@ mod tests {
     fn reasons_read_as_before() {
         assert_eq!(SkipReason::NotRequested.to_string(), "not requested");
         assert_eq!(
-            SkipReason::NotAvailable(Effect::Ao).to_string(),
-            "not available yet: the ao pass arrives with a later version"
+            SkipReason::NotAvailable(Effect::Ssr).to_string(),
+            "not available yet: the ssr pass arrives with a later version"
         );
         assert_eq!(
             SkipReason::MoonBelowHorizon {

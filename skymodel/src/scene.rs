@@ -47,7 +47,8 @@ pub enum Effect {
     /// Light shafts: the fog's single scattering of the Sun, Moon and sky
     /// (`lighting.godrays`).
     Godrays,
-    /// Screen-space ambient occlusion (a later issue).
+    /// Screen-space ambient occlusion of the sky's light on the world
+    /// (`lighting.ao`).
     Ao,
     /// Screen-space reflections (a later issue).
     Ssr,
@@ -122,6 +123,7 @@ impl Effect {
                 | Effect::World
                 | Effect::Shadows
                 | Effect::Godrays
+                | Effect::Ao
         )
     }
 

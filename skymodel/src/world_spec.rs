@@ -285,6 +285,8 @@ pub struct LightingSpec {
     pub sky: SkyLightSettings,
     /// Light shafts in the fog.
     pub godrays: GodraysSettings,
+    /// Ambient occlusion of the sky light ([`crate::ao_spec`]).
+    pub ao: crate::ao_spec::AoSettings,
 }
 
 impl LightingSpec {
@@ -336,7 +338,7 @@ impl LightingSpec {
         ] {
             range(f, v, lo, hi)?;
         }
-        Ok(())
+        self.ao.validate()
     }
 }
 

@@ -8,7 +8,11 @@
 //!    ([`env`]); built once per world and kept while it does not change;
 //! 3. **shadows** — the Sun's and the Moon's cascades ([`view::cascades`]),
 //!    rebuilt when the light or the camera moved;
-//! 4. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
+//! 4. **ambient occlusion** ([`ao`], `ao.wgsl`), when `ao` runs: AO and
+//!    bent normals from the G-buffer, which the lighting pass applies to
+//!    the sky's diffuse light only (see [`ao`] for how it meets the
+//!    visibility maps);
+//! 5. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
 //!    filtered shadows), the sky (occluded diffuse cells, prefiltered
 //!    specular), emission, fog and aerial perspective, written into the
 //!    target where the G-buffer has a surface; before it, when `godrays`
@@ -19,6 +23,7 @@
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
 
 pub mod cloud_shadow;
+pub mod ao;
 pub mod env;
 pub mod godrays;
 pub mod mesh;
@@ -92,6 +97,8 @@ pub struct WorldInputs<'a> {
     /// The frame's clouds, whose shadows fall on the world (`None`: no
     /// clouds pass).
     pub clouds: Option<&'a himmel_skymodel::frame::CloudFrame>,
+    /// Whether the ao pass runs (the plan's decision).
+    pub ao: bool,
 }
 
 /// Why the shadow maps of the last frame still hold.
@@ -118,6 +125,7 @@ pub struct LightingPasses {
     prev_view_proj: Option<Mat4>,
     shafts: godrays::Shafts,
     clouds: cloud_shadow::CloudShadows,
+    ao: ao::Occlusion,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -188,6 +196,7 @@ impl LightingPasses {
         self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
         let cam = WorldCamera::new(&inputs.scene.camera);
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
+        stats.extend(self.ao_step(gpu, inputs, &cam)?);
         stats.push(self.visibility_step(gpu, inputs)?);
         let shadows = self.shadow_step(gpu, inputs, &cam)?;
         stats.extend(self.cloud_shadow_step(gpu, inputs, &cam));
@@ -229,6 +238,34 @@ impl LightingPasses {
         resources::gbuffer_pass(gpu, pipes, world, &gb, bytemuck::bytes_of(&camera), ground)?;
         self.gbuffer = Some(gb);
         Ok(stat("world/gbuffer", true, Some(ms(t)), None))
+    }
+
+    /// The AO image of the last frame that ran the ao pass.
+    pub fn ao_image(&self, gpu: &Gpu) -> Result<Option<ao::AoImage>, RenderError> {
+        self.ao.read_back(gpu)
+    }
+
+    /// Step 1b: ambient occlusion from the G-buffer, when `ao` runs; its
+    /// radius from the world's bounds unless `lighting.ao.radius_m` is set.
+    fn ao_step(
+        &mut self,
+        gpu: &Gpu,
+        inputs: &WorldInputs,
+        cam: &WorldCamera,
+    ) -> Result<Option<PassStat>, RenderError> {
+        if !inputs.ao {
+            return Ok(None);
+        }
+        let (Some(world), Some(gb)) = (self.world.as_ref(), self.gbuffer.as_ref()) else {
+            return Err(RenderError::WorldMissing);
+        };
+        let Some(bounds) = world.bounds else {
+            let why = "the world has no geometry";
+            return Ok(Some(stat("ao", false, None, Some(why.into()))));
+        };
+        let s = &inputs.scene.lighting.ao;
+        let radius = s.radius_for(bounds.extent() as f64) as f32;
+        self.ao.run(gpu, gb, cam, s, radius).map(Some)
     }
 
     /// Step 2: the sky's visibility maps, kept while the world and the cells'
@@ -301,8 +338,11 @@ impl LightingPasses {
             .bounds
             .filter(|_| inputs.shadows && (sun.is_some() || moon.is_some()))
         else {
+            // The maps are dropped: a later frame with the same lights and
+            // camera must draw them again, not reuse an empty set.
             self.shadow_views.clear();
             self.sun_layers = 0;
+            self.shadow_key = None;
             return Ok(None);
         };
         let key = ShadowKey {
@@ -431,6 +471,7 @@ impl LightingPasses {
         };
         let shafts_view = self.shafts.view(gpu, inputs.godrays);
         let cloud_map = self.clouds.view(gpu);
+        let ao_view = self.ao.view(gpu, inputs.ao && world.bounds.is_some());
         let out = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
             ..Default::default()
@@ -489,6 +530,10 @@ impl LightingPasses {
                 wgpu::BindGroupEntry {
                     binding: 8,
                     resource: tv(cloud_map),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 5,
+                    resource: tv(ao_view),
                 },
             ],
         });

@@ -186,6 +186,7 @@ impl Pipelines {
                 entry(3, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
                 entry(4, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
                 entry(8, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+                entry(5, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
             ],
         });
         let (godrays, godrays_layout) = godrays_pipeline(gpu);

@@ -26,6 +26,10 @@
 //   in-scattering along the view ray, marched at a reduced resolution, is
 //   gathered here by depth over the interleaved N × N block and added
 //   after the view ray's fog extinction.
+// * ambient occlusion (ao.wgsl, when the pass ran): the sky's diffuse
+//   irradiance E × min(1, AO / (Y(E) / Y(E_open))), E_open the cells'
+//   irradiance with nothing in the way — the smaller of the visibility
+//   maps' visibility and AO (passes/lighting/ao.rs); never the Sun or Moon.
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -75,6 +79,9 @@ struct CellPart {
 // The clouds' transmittance towards the Sun (r) and the Moon (g) over the
 // ground plane (cloud_shadow.rs).
 @group(1) @binding(8) var cloud_t: texture_2d<f32>;
+// The ao pass's bent normal (xyz) and AO (w); a 1 × 1 stand-in when it
+// did not run.
+@group(1) @binding(5) var ao_in: texture_2d<f32>;
 
 const SPECULAR_LEVELS: f32 = 5.0;
 
@@ -420,6 +427,24 @@ fn fog_length(p: vec3<f32>) -> f32 {
     return len * (top - lo) / (hi - lo);
 }
 
+// The sky's irradiance on normal n were nothing in the way: the pixel's
+// set of cells and the aureoles' (as the sky pass sums them).
+fn open_irradiance(n: vec3<f32>, g: vec2<u32>) -> vec3<f32> {
+    let side = u.flags.z;
+    let cell_set = (g.x % side) + (g.y % side) * side;
+    let per = u.counts.x;
+    let aureole_first = side * side * per;
+    var e = vec3<f32>(0.0);
+    for (var j = 0u; j < per + u.flags.w; j++) {
+        var k = cell_set * per + j;
+        if j >= per {
+            k = aureole_first + j - per;
+        }
+        e += cell_whole(cells[k], n);
+    }
+    return e;
+}
+
 // The sky pass: this pixel's set of cells (its place in the N × N block),
 // each cell's first moment seen through its visibility map.
 @compute @workgroup_size(8, 8)
@@ -615,8 +640,15 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
                 }
             }
         }
-        let e = acc.rgb / max(wsum, 1.0);
+        var e = acc.rgb / max(wsum, 1.0);
         open = acc.a / max(wsum, 1.0);
+        if all(textureDimensions(ao_in) == vec2<u32>(w, h)) {
+            // The maps' own cosine-weighted visibility (luminance): AO
+            // darkens only where it finds less.
+            let y = vec3<f32>(0.2126, 0.7152, 0.0722);
+            let seen = dot(e, y) / max(dot(open_irradiance(s.n, gid.xy), y), 1e-20);
+            e *= min(1.0, textureLoad(ao_in, px, 0).w / max(seen, 1e-3));
+        }
         let spec_vis = acc_s / max(wsum, 1.0);
         let r = reflect(ray, s.n);
         var sky_t = 1.0;

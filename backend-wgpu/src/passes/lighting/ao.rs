@@ -1,0 +1,353 @@
+//! Ambient occlusion (`lighting.ao`, issue 16): `ssao` or `gtao` from the
+//! G-buffer's distance and normal (`shaders/lighting/ao.wgsl`), then a
+//! depth-aware blur; the result (bent normal + AO, rgba32float) is what the
+//! lighting pass reads and [`Occlusion::read_back`] returns.
+//!
+//! **How AO meets the sky's visibility maps.** The sky light already comes
+//! through the world's visibility maps (one per sky cell,
+//! `lighting.sky`), which see every blocker the maps' texels resolve, far
+//! or near, but not the contact detail below a texel (a few centimetres
+//! to decimetres outdoors). AO sees that detail within its radius, but only
+//! what the camera sees. Both estimate the fraction of the sky's light that
+//! reaches the surface, so multiplying them would count a blocker both see
+//! twice. The lighting pass therefore takes the smaller of the two: the
+//! sky's diffuse irradiance E, which the maps have already reduced, is
+//! compared with E_open, the same cells' irradiance with nothing in the way;
+//! their luminance ratio Y(E)/Y(E_open) is the maps' cosine-weighted
+//! visibility, and E is scaled by min(1, AO / that ratio) — AO darkens only
+//! where it finds more occlusion than the maps (creases, contacts), and
+//! never the Sun's or the Moon's light. (The maps' ratio is weighted by the
+//! sky's radiance, AO by a uniform sky: where a blocker hides the bright
+//! side of the sky the maps' ratio is the lower and AO changes nothing,
+//! which is right, as the maps see it directionally.)
+
+use himmel_skymodel::renderer::PassStat;
+use himmel_skymodel::{AoMethod, AoSettings, RenderError};
+
+use super::resources::{texture, GBuffer};
+use super::view::WorldCamera;
+use crate::gpu::{bind_group, Gpu};
+
+/// The AO pass's uniforms (`Ao` in ao.wgsl).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+struct AoUniforms {
+    eye: [f32; 4],
+    forward: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+    params: [f32; 4],
+    q: [u32; 4],
+    q2: [u32; 4],
+}
+
+/// The AO image of the last frame, read back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AoImage {
+    /// Width, px.
+    pub width: u32,
+    /// Height, px.
+    pub height: u32,
+    /// The radius it was computed with, metres.
+    pub radius_m: f32,
+    /// AO per pixel, row-major, in [0, 1] (1 on sky pixels).
+    pub ao: Vec<f32>,
+    /// The bent normal per pixel (world frame, unit; 0 on sky pixels).
+    pub bent_normal: Vec<[f32; 3]>,
+}
+
+struct AoPipes {
+    layout: wgpu::BindGroupLayout,
+    occlude: wgpu::ComputePipeline,
+    blur: wgpu::ComputePipeline,
+}
+
+struct Images {
+    size: (u32, u32),
+    raw: wgpu::TextureView,
+    out: wgpu::Texture,
+    out_view: wgpu::TextureView,
+}
+
+/// The AO pass and its images, kept between frames.
+#[derive(Default)]
+pub struct Occlusion {
+    pipes: Option<AoPipes>,
+    images: Option<Images>,
+    stand_in: Option<wgpu::TextureView>,
+    radius_m: f32,
+}
+
+const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+
+fn image(gpu: &Gpu, (w, h): (u32, u32), copy: bool) -> wgpu::Texture {
+    let mut usage = wgpu::TextureUsages::STORAGE_BINDING
+        | wgpu::TextureUsages::TEXTURE_BINDING
+        | wgpu::TextureUsages::COPY_DST;
+    if copy {
+        usage |= wgpu::TextureUsages::COPY_SRC;
+    }
+    texture(
+        gpu,
+        "ao",
+        (w, h, 1),
+        wgpu::TextureDimension::D2,
+        FORMAT,
+        usage,
+    )
+}
+
+fn pipes(gpu: &Gpu) -> AoPipes {
+    let c = wgpu::ShaderStages::COMPUTE;
+    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: c,
+        ty,
+        count: None,
+    };
+    let tex = |sample_type| wgpu::BindingType::Texture {
+        sample_type,
+        view_dimension: wgpu::TextureViewDimension::D2,
+        multisampled: false,
+    };
+    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
+    let layout = gpu
+        .device
+        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("ao"),
+            entries: &[
+                entry(
+                    0,
+                    wgpu::BindingType::Buffer {
+                        ty: wgpu::BufferBindingType::Uniform,
+                        has_dynamic_offset: false,
+                        min_binding_size: None,
+                    },
+                ),
+                entry(1, tex(unfiltered)),
+                entry(2, tex(unfiltered)),
+                entry(3, tex(wgpu::TextureSampleType::Uint)),
+                entry(
+                    4,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                ),
+                entry(5, tex(unfiltered)),
+            ],
+        });
+    let module = gpu.shader("ao.wgsl", include_str!("../../shaders/lighting/ao.wgsl"));
+    let pl = gpu.pipeline_layout("ao", &[&layout]);
+    AoPipes {
+        occlude: gpu.compute_pipeline(&pl, &module, "occlude"),
+        blur: gpu.compute_pipeline(&pl, &module, "blur"),
+        layout,
+    }
+}
+
+/// The uniforms of a frame seen by `cam` with radius `radius_m`.
+fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
+    let v4 = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
+    AoUniforms {
+        eye: v4(cam.eye, cam.tan_half),
+        forward: v4(cam.forward, cam.aspect),
+        right: v4(cam.right, cam.width as f32),
+        up: v4(cam.up, cam.height as f32),
+        params: [radius_m, 0.0, 0.0, 0.0],
+        q: [
+            match s.method {
+                AoMethod::Ssao => 0,
+                AoMethod::Gtao => 1,
+            },
+            s.slices.max(1),
+            s.steps.max(1),
+            s.samples.max(1),
+        ],
+        q2: [s.blur_px, 0, 0, 0],
+    }
+}
+
+impl Occlusion {
+    /// Runs the pass over the G-buffer `gb` of `cam` (occlusion, then the
+    /// blur) and waits for the device. Returns its `--stats` entry.
+    pub fn run(
+        &mut self,
+        gpu: &Gpu,
+        gb: &GBuffer,
+        cam: &WorldCamera,
+        settings: &AoSettings,
+        radius_m: f32,
+    ) -> Result<PassStat, RenderError> {
+        // The pipelines once per renderer, outside the pass's time.
+        let pipes = self.pipes.get_or_insert_with(|| pipes(gpu));
+        let t = std::time::Instant::now();
+        let size = (cam.width, cam.height);
+        if self.images.as_ref().map(|i| i.size) != Some(size) {
+            let out = image(gpu, size, true);
+            self.images = Some(Images {
+                size,
+                raw: image(gpu, size, false).create_view(&Default::default()),
+                out_view: out.create_view(&Default::default()),
+                out,
+            });
+        }
+        let Some(img) = self.images.as_ref() else {
+            return Err(RenderError::Device("ao images missing".into()));
+        };
+        let u = uniforms(cam, settings, radius_m);
+        let ubuf = wgpu::util::DeviceExt::create_buffer_init(
+            &gpu.device,
+            &wgpu::util::BufferInitDescriptor {
+                label: Some("ao uniforms"),
+                contents: bytemuck::bytes_of(&u),
+                usage: wgpu::BufferUsages::UNIFORM,
+            },
+        );
+        let tv = wgpu::BindingResource::TextureView;
+        let group = |out, input| {
+            bind_group(
+                &gpu.device,
+                "ao",
+                &pipes.layout,
+                &[
+                    ubuf.as_entire_binding(),
+                    tv(&gb.views[0]),
+                    tv(&gb.views[1]),
+                    tv(&gb.views[3]),
+                    tv(out),
+                    tv(input),
+                ],
+            )
+        };
+        let first = group(&img.raw, &img.out_view);
+        let second = group(&img.out_view, &img.raw);
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        let groups = (size.0.div_ceil(8), size.1.div_ceil(8));
+        for (pipe, g) in [(&pipes.occlude, &first), (&pipes.blur, &second)] {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(pipe);
+            pass.set_bind_group(0, g, &[]);
+            pass.dispatch_workgroups(groups.0, groups.1, 1);
+        }
+        gpu.queue.submit([enc.finish()]);
+        gpu.wait()?;
+        self.radius_m = radius_m;
+        let method = match settings.method {
+            AoMethod::Ssao => "ssao",
+            AoMethod::Gtao => "gtao",
+        };
+        Ok(PassStat {
+            name: "ao".into(),
+            ran: true,
+            ms: Some(t.elapsed().as_secs_f64() * 1e3),
+            reason: Some(format!("{method}, radius {radius_m:.2} m")),
+        })
+    }
+
+    /// The AO image of the last run, or (`on` false) a 1 × 1 stand-in that
+    /// the lighting pass binds and recognises by its size (it holds AO 1,
+    /// which changes nothing, should a 1 × 1 frame read it).
+    pub fn view(&mut self, gpu: &Gpu, on: bool) -> &wgpu::TextureView {
+        if on {
+            if let Some(i) = self.images.as_ref() {
+                return &i.out_view;
+            }
+        }
+        self.stand_in.get_or_insert_with(|| {
+            let t = image(gpu, (1, 1), false);
+            let one: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
+            gpu.queue.write_texture(
+                t.as_image_copy(),
+                bytemuck::bytes_of(&one),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(16),
+                    rows_per_image: Some(1),
+                },
+                wgpu::Extent3d {
+                    width: 1,
+                    height: 1,
+                    depth_or_array_layers: 1,
+                },
+            );
+            t.create_view(&Default::default())
+        })
+    }
+
+    /// The AO image of the last run (`None` before the first).
+    pub fn read_back(&self, gpu: &Gpu) -> Result<Option<AoImage>, RenderError> {
+        let Some(img) = self.images.as_ref() else {
+            return Ok(None);
+        };
+        let (w, h) = img.size;
+        let row = (w as u64 * 16).div_ceil(256) * 256;
+        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("ao read back"),
+            size: row * h as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut enc = gpu.device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_buffer(
+            img.out.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buf,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row as u32),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        gpu.queue.submit([enc.finish()]);
+        let bytes = gpu.map_read(&buf, row * h as u64)?;
+        let mut ao = Vec::with_capacity((w * h) as usize);
+        let mut bent_normal = Vec::with_capacity((w * h) as usize);
+        for y in 0..h as usize {
+            let line = &bytes[y * row as usize..y * row as usize + w as usize * 16];
+            for px in line.chunks_exact(16) {
+                let v: [f32; 4] = bytemuck::pod_read_unaligned(px);
+                bent_normal.push([v[0], v[1], v[2]]);
+                ao.push(v[3]);
+            }
+        }
+        Ok(Some(AoImage {
+            width: w,
+            height: h,
+            radius_m: self.radius_m,
+            ao,
+            bent_normal,
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use himmel_skymodel::Camera;
+
+    #[test]
+    fn uniforms_carry_the_method_and_the_quality() {
+        let cam = WorldCamera::new(&Camera::default());
+        let s = AoSettings {
+            method: AoMethod::Ssao,
+            samples: 24,
+            blur_px: 3,
+            ..AoSettings::default()
+        };
+        let u = uniforms(&cam, &s, 1.5);
+        assert_eq!(u.q, [0, s.slices, s.steps, 24]);
+        assert_eq!(u.q2[0], 3);
+        assert_eq!(u.params[0], 1.5);
+        let g = uniforms(&cam, &AoSettings::default(), 2.0);
+        assert_eq!(g.q[0], 1);
+        assert_eq!(std::mem::size_of::<AoUniforms>(), 7 * 16);
+    }
+}

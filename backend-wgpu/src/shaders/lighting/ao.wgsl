@@ -1,0 +1,324 @@
+// Ambient occlusion (`lighting.ao`, passes/lighting/ao.rs): per pixel of
+// the G-buffer, the cosine-weighted visibility within the radius R,
+//
+//   A = (1/π) ∫_Ω V_R(ω) (n·ω) dω,
+//
+// V_R(ω) = 0 where geometry lies closer than R along ω, and the bent normal
+// (the cosine-weighted mean unblocked direction, ∫ ω V_R (n·ω) dω
+// normalised), from the G-buffer's distance and normal
+// alone (screen space: what the camera does not see does not occlude).
+//
+// * `gtao` (Jimenez et al. 2016, "Practical real-time strategies for
+//   accurate indirect occlusion"): slices through the view vector v, each
+//   at a screen angle φ; in a slice, angles θ are measured from v towards
+//   the slice's screen direction. The normal projected into the slice (n_p,
+//   length |n_p|, angle γ) bounds the hemisphere to [γ − π/2, γ + π/2];
+//   the horizons h₀ ≤ 0 ≤ h₁ are the highest G-buffer points closer than R
+//   on each side (a sample's elevation fades to the hemisphere's edge over
+//   the last `FALLOFF` of R), and
+//     â(h) = (cos γ + 2h sin γ − cos(2h − γ)) / 4,
+//     A_slice = |n_p| (â(h₀) + â(h₁)),
+//   the exact integral of cos(θ − γ)|sin θ| between them. A is Σ A_slice
+//   over Σ |n_p| (cos γ + γ sin γ) (the same sum unoccluded), so that an
+//   open plane gives 1 for any number of slices. The slices' angles are
+//   offset over a 4 × 4 pixel pattern, the samples' distances by
+//   interleaved gradient noise; the blur gathers them.
+// * `ssao` (Mittring 2007; the normal-oriented hemisphere kernel): N points
+//   x_i = p + r_i ω_i, ω_i cosine-distributed about n (stratified, rotated
+//   about n per pixel by interleaved gradient noise), r_i from 0.1 R to R
+//   (denser near p); x_i is blocked when the surface the G-buffer shows
+//   through x_i lies in front of it, by less than R (farther: another
+//   object, in front of p rather than above it). A = the unblocked
+//   fraction: a point test, not a ray test, so it misses blockers beyond
+//   each point along its direction and reads lighter than the reference.
+// * `blur` (both): a depth-aware box of (2 blur_px + 1)² pixels over the
+//   neighbours on the same surface (normal within 25°, on the centre's
+//   plane within 2 % of the distance).
+// Output: rgba32float, xyz the bent normal (world frame), w = A; sky pixels
+// (0, 0, 0, 1).
+
+struct Ao {
+    // xyz: eye; w: tan(fov / 2).
+    eye: vec4<f32>,
+    // xyz: forward; w: width / height.
+    forward: vec4<f32>,
+    // xyz: right; w: width, px.
+    right: vec4<f32>,
+    // xyz: up; w: height, px.
+    up: vec4<f32>,
+    // R (m), 0, 0, 0.
+    params: vec4<f32>,
+    // Method (0 ssao, 1 gtao), slices, steps, samples.
+    q: vec4<u32>,
+    // Blur half side (px), 0, 0, 0.
+    q2: vec4<u32>,
+}
+
+@group(0) @binding(0) var<uniform> a: Ao;
+@group(0) @binding(1) var g_distance: texture_2d<f32>;
+@group(0) @binding(2) var g_normal: texture_2d<f32>;
+@group(0) @binding(3) var g_material: texture_2d<u32>;
+@group(0) @binding(4) var ao_out: texture_storage_2d<rgba32float, write>;
+@group(0) @binding(5) var ao_in: texture_2d<f32>;
+
+const PI: f32 = 3.14159265358979;
+const HALF_PI: f32 = 1.57079632679490;
+// The fraction of R over which a sample's weight fades to 0.
+const FALLOFF: f32 = 0.1;
+// Quadrature points of the bent normal's integral over a slice's arc.
+const BENT_POINTS: u32 = 16u;
+
+fn size() -> vec2<i32> {
+    return vec2<i32>(i32(a.right.w), i32(a.up.w));
+}
+
+fn on_screen(q: vec2<i32>) -> bool {
+    return all(q >= vec2<i32>(0)) && all(q < size());
+}
+
+// The view ray through the pixel position c (pixel centres at k + ½).
+fn ray_at(c: vec2<f32>) -> vec3<f32> {
+    let h = a.up.w;
+    let t = a.eye.w;
+    let nx = (c.x - 0.5 * a.right.w) / (0.5 * h) * t;
+    let ny = -(c.y - 0.5 * h) / (0.5 * h) * t;
+    return normalize(a.forward.xyz + a.right.xyz * nx + a.up.xyz * ny);
+}
+
+// The surface point pixel q shows.
+fn position(q: vec2<i32>) -> vec3<f32> {
+    return a.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
+}
+
+// The pixel position of world point x (and its view depth in z).
+fn project(x: vec3<f32>) -> vec3<f32> {
+    let d = x - a.eye.xyz;
+    let z = dot(d, a.forward.xyz);
+    let h = a.up.w;
+    let k = 0.5 * h / (a.eye.w * max(z, 1e-6));
+    return vec3<f32>(dot(d, a.right.xyz) * k + 0.5 * a.right.w, -dot(d, a.up.xyz) * k + 0.5 * h, z);
+}
+
+// Interleaved gradient noise (Jimenez 2014), in [0, 1).
+fn ign(q: vec2<u32>) -> f32 {
+    return fract(52.9829189 * fract(0.06711056 * f32(q.x) + 0.00583715 * f32(q.y)));
+}
+
+// The 4 × 4 Bayer (ordered-dither) rank of pixel q, in [0, 16).
+fn bayer4(q: vec2<u32>) -> u32 {
+    var m = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    return m[(q.x & 3u) + 4u * (q.y & 3u)];
+}
+
+// The cosine-weighted integral of one side of a slice up to horizon h.
+fn arc(h: f32, g: f32) -> f32 {
+    return 0.25 * (cos(g) + 2.0 * h * sin(g) - cos(2.0 * h - g));
+}
+
+fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
+    let radius = a.params.x;
+    let v = normalize(a.eye.xyz - p);
+    let slices = max(a.q.y, 1u);
+    let steps = max(a.q.z, 1u);
+    let rot = (f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0;
+    let jit = ign(vec2<u32>(px));
+    let centre = vec2<f32>(px) + 0.5;
+    var vis = 0.0;
+    var norm = 0.0;
+    var bent = vec3<f32>(0.0);
+    for (var s = 0u; s < slices; s++) {
+        let phi = (f32(s) + rot) / f32(slices) * PI;
+        let dir2 = vec2<f32>(cos(phi), sin(phi));
+        let dir3 = a.right.xyz * dir2.x - a.up.xyz * dir2.y;
+        let o = dir3 - v * dot(dir3, v);
+        if dot(o, o) < 1e-12 {
+            continue;
+        }
+        let ortho = normalize(o);
+        let axis = cross(v, ortho);
+        let np = n - axis * dot(n, axis);
+        let nlen = length(np);
+        if nlen < 1e-4 {
+            continue;
+        }
+        let g = atan2(dot(np, ortho), dot(np, v));
+        let np_hat = np / nlen;
+        var h = array<f32, 2>(g - HALF_PI, g + HALF_PI);
+        for (var side = 0; side < 2; side++) {
+            let sgn = f32(2 * side - 1);
+            let low = cos(h[side]);
+            // The slice's line in the tangent plane on this side.
+            let tangent = v * low + ortho * sin(h[side]);
+            var best = low;
+            for (var k = 0u; k < steps; k++) {
+                let t = (f32(k) + jit) / f32(steps);
+                let d_px = 1.0 + (r_px - 1.0) * t * t;
+                let q = vec2<i32>(floor(centre + dir2 * (sgn * d_px)));
+                if !on_screen(q) {
+                    break;
+                }
+                if textureLoad(g_material, q, 0).x == 0u {
+                    continue;
+                }
+                let delta = position(q) - p;
+                let len = length(delta);
+                if len < 1e-6 {
+                    continue;
+                }
+                // The sample's pixel centre lies up to half a pixel off the
+                // slice: keep its height above the tangent plane and its
+                // distance along it, and put it into the slice there (an
+                // off-slice point of the plane itself would rise above the
+                // slice's tangent line and occlude).
+                let z = dot(delta, n);
+                let rho = sqrt(max(len * len - z * z, 0.0));
+                let ds = tangent * rho + np_hat * (z / nlen);
+                let wgt = clamp((radius - len) / (FALLOFF * radius), 0.0, 1.0);
+                best = max(best, mix(low, dot(ds, v) / max(length(ds), 1e-9), wgt));
+            }
+            let ang = acos(clamp(best, -1.0, 1.0));
+            if side == 0 {
+                h[0] = max(-ang, g - HALF_PI);
+            } else {
+                h[1] = min(ang, g + HALF_PI);
+            }
+        }
+        let slice_vis = nlen * (arc(h[0], g) + arc(h[1], g));
+        vis += slice_vis;
+        norm += nlen * (cos(g) + g * sin(g));
+        // The slice's share of ∫ ω (n·ω) dω over the open arc (midpoint
+        // rule; the slice's measure is |sin θ| dθ).
+        var m = vec2<f32>(0.0);
+        let dh = (h[1] - h[0]) / f32(BENT_POINTS);
+        for (var i = 0u; i < BENT_POINTS; i++) {
+            let th = h[0] + (f32(i) + 0.5) * dh;
+            m += vec2<f32>(cos(th), sin(th)) * (cos(th - g) * abs(sin(th)));
+        }
+        bent += (v * m.x + ortho * m.y) * (nlen * dh);
+    }
+    var ao = 1.0;
+    if norm > 1e-6 {
+        ao = clamp(vis / norm, 0.0, 1.0);
+    }
+    var b = n;
+    if dot(bent, bent) > 1e-12 {
+        b = normalize(bent);
+    }
+    return vec4<f32>(b, ao);
+}
+
+fn ssao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, dist: f32) -> vec4<f32> {
+    let radius = a.params.x;
+    let count = max(a.q.w, 1u);
+    // A tangent frame about n, rotated per pixel.
+    let up = select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(n.y) > 0.9);
+    let t0 = normalize(cross(up, n));
+    let b0 = cross(n, t0);
+    let rot = 2.0 * PI * ign(vec2<u32>(px));
+    let t = t0 * cos(rot) + b0 * sin(rot);
+    let b = cross(n, t);
+    let start = p + n * (1e-3 * radius);
+    let eye_dist = dist;
+    // Stratified over a golden-angle spiral: sample i at cos²θ = 1 − u_i.
+    var open = 0.0;
+    var bent = vec3<f32>(0.0);
+    for (var i = 0u; i < count; i++) {
+        let u1 = (f32(i) + 0.5) / f32(count);
+        let r = sqrt(u1);
+        let phi = f32(i) * 2.39996323;
+        let d = t * (r * cos(phi)) + b * (r * sin(phi)) + n * sqrt(max(1.0 - u1, 0.0));
+        // Lengths from 0.1 R to R, denser near p; the order decorrelated
+        // from the direction's by a second sequence.
+        let s = fract(f32(i) * 0.618034 + 0.5 * ign(vec2<u32>(px) + vec2<u32>(7u, 13u)));
+        let x = start + d * (radius * mix(0.1, 1.0, s * s));
+        let c = project(x);
+        let q = vec2<i32>(floor(c.xy));
+        var blocked = false;
+        if on_screen(q) && c.z > 0.0 && textureLoad(g_material, q, 0).x != 0u {
+            let surf = textureLoad(g_distance, q, 0).x;
+            let xd = length(x - a.eye.xyz);
+            blocked = surf < xd - 1e-3 * radius && abs(eye_dist - surf) < radius;
+        }
+        if !blocked {
+            open += 1.0;
+            bent += d;
+        }
+    }
+    var bn = n;
+    if dot(bent, bent) > 1e-12 {
+        bn = normalize(bent);
+    }
+    return vec4<f32>(bn, open / f32(count));
+}
+
+@compute @workgroup_size(8, 8)
+fn occlude(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = vec2<i32>(gid.xy);
+    if !on_screen(px) {
+        return;
+    }
+    if textureLoad(g_material, px, 0).x == 0u {
+        textureStore(ao_out, px, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+        return;
+    }
+    let dist = textureLoad(g_distance, px, 0).x;
+    let n = normalize(textureLoad(g_normal, px, 0).xyz);
+    let ray = ray_at(vec2<f32>(px) + 0.5);
+    let p = a.eye.xyz + ray * dist;
+    // R in pixels at this depth.
+    let z = max(dist * dot(ray, a.forward.xyz), 1e-6);
+    let r_px = a.params.x * 0.5 * a.up.w / (a.eye.w * z);
+    if r_px < 1.0 {
+        // The radius is below a pixel: nothing the G-buffer resolves.
+        textureStore(ao_out, px, vec4<f32>(n, 1.0));
+        return;
+    }
+    if a.q.x == 1u {
+        textureStore(ao_out, px, gtao(px, p, n, r_px));
+    } else {
+        textureStore(ao_out, px, ssao(px, p, n, dist));
+    }
+}
+
+@compute @workgroup_size(8, 8)
+fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let px = vec2<i32>(gid.xy);
+    if !on_screen(px) {
+        return;
+    }
+    let c = textureLoad(ao_in, px, 0);
+    if textureLoad(g_material, px, 0).x == 0u {
+        textureStore(ao_out, px, c);
+        return;
+    }
+    let dist = textureLoad(g_distance, px, 0).x;
+    let n = normalize(textureLoad(g_normal, px, 0).xyz);
+    let p = position(px);
+    let r = i32(a.q2.x);
+    var acc = vec4<f32>(0.0);
+    var wsum = 0.0;
+    for (var dy = -r; dy <= r; dy++) {
+        for (var dx = -r; dx <= r; dx++) {
+            let q = px + vec2<i32>(dx, dy);
+            if !on_screen(q) || textureLoad(g_material, q, 0).x == 0u {
+                continue;
+            }
+            let nq = textureLoad(g_normal, q, 0).xyz;
+            if dot(nq, n) < 0.9 || abs(dot(position(q) - p, n)) > 0.02 * dist {
+                continue;
+            }
+            acc += textureLoad(ao_in, q, 0);
+            wsum += 1.0;
+        }
+    }
+    if wsum < 0.5 {
+        textureStore(ao_out, px, c);
+        return;
+    }
+    let m = acc / wsum;
+    var b = n;
+    if dot(m.xyz, m.xyz) > 1e-12 {
+        b = normalize(m.xyz);
+    }
+    textureStore(ao_out, px, vec4<f32>(b, m.w));
+}

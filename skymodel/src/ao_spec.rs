@@ -1,0 +1,138 @@
+//! Ambient occlusion of a 3D world's sky light (`lighting.ao`, issue 16):
+//! the scene keys of the wgpu backend's `ao` pass (`passes/lighting/ao.rs`).
+//!
+//! The pass estimates, per pixel of the G-buffer, the cosine-weighted
+//! fraction of the hemisphere above the surface that no geometry closer than
+//! `radius_m` blocks — (1/π) ∫ V_R(ω) (n·ω) dω — and the bent normal (the
+//! mean unblocked direction). It multiplies only the sky's diffuse light,
+//! never the Sun's or the Moon's.
+
+use serde::{Deserialize, Serialize};
+
+use crate::scene_error::{check_range, SceneError};
+
+/// How ambient occlusion is estimated (`lighting.ao.method`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum AoMethod {
+    /// Screen-space AO with a hemisphere kernel (Mittring 2007, the
+    /// normal-oriented variant): `samples` points in the hemisphere of
+    /// radius `radius_m` about the normal, cosine-distributed, the kernel
+    /// rotated per pixel by interleaved gradient noise; a point counts as
+    /// blocked when the surface the G-buffer shows there lies in front of
+    /// it (within the radius). Then the depth-aware blur.
+    Ssao,
+    /// Ground-truth AO (Jimenez et al. 2016, as in XeGTAO): `slices`
+    /// screen-space slices through the view vector per pixel, in each the
+    /// two horizons found by `steps` samples per side within the radius,
+    /// and the exact cosine-weighted visibility between them; the slices'
+    /// angles interleaved over 4 × 4 pixels. Then the depth-aware blur.
+    Gtao,
+}
+
+/// Ambient occlusion (`lighting.ao`; runs with `--effects ao`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields, default)]
+pub struct AoSettings {
+    /// The method (default `gtao`).
+    pub method: AoMethod,
+    /// World-space radius, metres, in [0.01, 100]: geometry farther than
+    /// this does not occlude. Absent (the default): a twentieth of the
+    /// diagonal of the world's bounding box, within [0.1, 5] m
+    /// ([`AoSettings::radius_for`]; `null` in the template).
+    pub radius_m: Option<f64>,
+    /// `gtao`: slices per pixel, in [1, 16] (default 4).
+    pub slices: u32,
+    /// `gtao`: horizon samples per side of a slice, in [1, 64] (default 12).
+    pub steps: u32,
+    /// `ssao`: kernel samples per pixel, in [1, 256] (default 32).
+    pub samples: u32,
+    /// Half side of the depth-aware (bilateral) blur, pixels, in [0, 4]
+    /// (default 2: a 5 × 5 window, covering the 4 × 4 interleaving).
+    pub blur_px: u32,
+}
+
+impl Default for AoSettings {
+    fn default() -> Self {
+        AoSettings {
+            method: AoMethod::Gtao,
+            radius_m: None,
+            slices: 4,
+            steps: 12,
+            samples: 32,
+            blur_px: 2,
+        }
+    }
+}
+
+impl AoSettings {
+    /// The radius for a world whose bounding box has this diagonal
+    /// (metres): `radius_m`, else diagonal / 20 within [0.1, 5] m.
+    pub fn radius_for(&self, diagonal_m: f64) -> f64 {
+        self.radius_m
+            .unwrap_or_else(|| (diagonal_m / 20.0).clamp(0.1, 5.0))
+    }
+
+    /// Checks every value against its documented range, naming the field.
+    pub fn validate(&self) -> Result<(), SceneError> {
+        if let Some(r) = self.radius_m {
+            check_range("lighting.ao.radius_m", r, 0.01, 100.0)?;
+        }
+        for (f, v, lo, hi) in [
+            ("lighting.ao.slices", self.slices, 1, 16),
+            ("lighting.ao.steps", self.steps, 1, 64),
+            ("lighting.ao.samples", self.samples, 1, 256),
+            ("lighting.ao.blur_px", self.blur_px, 0, 4),
+        ] {
+            check_range(f, v as f64, lo as f64, hi as f64)?;
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_and_ranges() {
+        let a = AoSettings::default();
+        assert!(a.validate().is_ok());
+        assert_eq!(a.method, AoMethod::Gtao);
+        assert_eq!(a.radius_for(40.0), 2.0);
+        assert_eq!(a.radius_for(1.0), 0.1);
+        assert_eq!(a.radius_for(1000.0), 5.0);
+        let b = AoSettings {
+            radius_m: Some(0.5),
+            ..a
+        };
+        assert_eq!(b.radius_for(1000.0), 0.5);
+        for (bad, field) in [
+            (
+                AoSettings {
+                    radius_m: Some(0.0),
+                    ..a
+                },
+                "lighting.ao.radius_m",
+            ),
+            (AoSettings { slices: 0, ..a }, "lighting.ao.slices"),
+            (AoSettings { steps: 65, ..a }, "lighting.ao.steps"),
+            (AoSettings { samples: 0, ..a }, "lighting.ao.samples"),
+            (AoSettings { blur_px: 5, ..a }, "lighting.ao.blur_px"),
+        ] {
+            assert_eq!(bad.validate().unwrap_err().field, field);
+        }
+    }
+
+    #[test]
+    fn keys_parse() {
+        let a: AoSettings =
+            serde_json::from_str(r#"{"method": "ssao", "radius_m": 2, "samples": 16}"#).unwrap();
+        assert_eq!(
+            (a.method, a.radius_m, a.samples, a.slices),
+            (AoMethod::Ssao, Some(2.0), 16, 4)
+        );
+        assert!(serde_json::from_str::<AoSettings>(r#"{"method": "hbao"}"#).is_err());
+        assert!(serde_json::from_str::<AoSettings>(r#"{"radius": 1}"#).is_err());
+    }
+}
