@@ -45,6 +45,14 @@ pub enum SkipReason {
     NoShaftLight,
     /// Light shafts without fog, or in fog that does not scatter.
     NoFogScattering,
+    /// Screen-space light shafts (`mitchell`, `sousa`) whose light is far
+    /// off screen ([`shaft_light_off_screen`]).
+    ShaftLightOffScreen {
+        /// `Sun` or `Moon`.
+        light: &'static str,
+        /// Its angle from the view axis, degrees.
+        off_axis_deg: f64,
+    },
     /// The texture pass of a scene without `sky_texture`.
     NoTexture,
     /// The clouds pass of a scene without a cloud layer (both
@@ -176,6 +184,13 @@ impl std::fmt::Display for SkipReason {
             SkipReason::NoFogScattering => f.write_str(
                 "no fog scatters light (the scene has no fog, or its scattering_per_m is 0)",
             ),
+            SkipReason::ShaftLightOffScreen {
+                light,
+                off_axis_deg,
+            } => write!(
+                f,
+                "the {light} is far off screen for the screen-space light shafts ({off_axis_deg:.1}° from the view axis: behind the camera, or its image more than {OFF_SCREEN_WIDTHS} frame widths or heights beyond the frame)"
+            ),
             SkipReason::NoTexture => f.write_str("no sky texture in the scene"),
             SkipReason::NoClouds => f.write_str(
                 "no cloud layer in the scene (clouds.low.coverage and clouds.high.coverage are 0)",
@@ -260,6 +275,9 @@ pub fn plan(
                     {
                         Some(SkipReason::NoShaftLight)
                     }
+                    Effect::Godrays if scene.lighting.godrays.method.screen_space() => {
+                        shaft_light_off_screen(scene, sun, moon)
+                    }
                     _ => None,
                 }
             };
@@ -270,6 +288,48 @@ pub fn plan(
             }
         })
         .collect()
+}
+
+/// How far beyond the frame's edge, in frame widths (heights), a light's
+/// image may lie for the screen-space light shafts to run.
+pub const OFF_SCREEN_WIDTHS: f64 = 2.0;
+
+/// Whether the light of the screen-space light shafts — the Sun when it is
+/// above the horizon, else the Moon — is *far off screen* for the
+/// perspective camera: behind it (at 90° or more from the view axis: its
+/// image, the point the radial blur converges on, is then mirrored through
+/// the frame's centre), or its image more than [`OFF_SCREEN_WIDTHS`] frame
+/// widths (heights) beyond the frame's edge, where every pixel's taps
+/// toward it lie at least two-thirds outside the frame (the blur has
+/// nothing to gather there).
+pub fn shaft_light_off_screen(
+    scene: &Scene,
+    sun: &SunState,
+    moon: &MoonState,
+) -> Option<SkipReason> {
+    let (light, dir) = if sun.alt_refracted_deg > 0.0 {
+        ("Sun", sun.dir())
+    } else {
+        ("Moon", glam::DVec3::from_array(moon.enu))
+    };
+    let cam = &scene.camera;
+    if cam.projection != crate::Projection::Perspective {
+        return None;
+    }
+    let (f, r, u) = cam.basis();
+    let d = dir.normalize_or_zero();
+    let off_axis_deg = f.dot(d).clamp(-1.0, 1.0).acos().to_degrees();
+    let (w, h) = cam.image_size();
+    let tan_v = (cam.fov_deg.to_radians() / 2.0).tan();
+    let tan_h = tan_v * w as f64 / h.max(1) as f64;
+    let reach = 1.0 + 2.0 * OFF_SCREEN_WIDTHS;
+    let far = f.dot(d) <= 0.0
+        || (r.dot(d) / f.dot(d) / tan_h).abs() > reach
+        || (u.dot(d) / f.dot(d) / tan_v).abs() > reach;
+    far.then_some(SkipReason::ShaftLightOffScreen {
+        light,
+        off_axis_deg,
+    })
 }
 
 /// The Sun pass does not run when its drawn disk lies entirely below the
