@@ -257,10 +257,7 @@ mod tests {
         s.method = GodraysMethod::Sousa;
         let p = blur_passes(&s);
         assert_eq!(p.iter().map(|p| p.taps).sum::<u32>(), 63);
-        assert_eq!(
-            p.iter().map(|p| p.stride).collect::<Vec<_>>(),
-            [1, 21, 441]
-        );
+        assert_eq!(p.iter().map(|p| p.stride).collect::<Vec<_>>(), [1, 21, 441]);
         // The last pass's last tap reaches (n − 1) n² of the n³ steps.
         assert!(p.iter().all(|p| p.steps == 21 * 21 * 21));
         s.method = GodraysMethod::Toth;

@@ -69,10 +69,25 @@ fn shaft_light() -> array<vec4<f32>, 2> {
     return array<vec4<f32>, 2>(vec4<f32>(0.0, 1.0, 0.0, -1.0), vec4<f32>(0.0));
 }
 
-// The frame pixel a texel stands for, and the image's size.
+// The frame pixel whose surface a texel takes (the G-buffer's).
 fn texel_pixel(q: vec2<i32>) -> vec2<i32> {
     let div = i32(max(u.shaft_q.z, 1u));
     return min(q * div + div / 2, vec2<i32>(i32(u.right.w) - 1, i32(u.up.w) - 1));
+}
+
+// Where texel q stands on the frame (pixel coordinates): its block's
+// centre, where shade.wgsl's bilinear gather puts it.
+fn texel_centre(q: vec2<i32>) -> vec2<f32> {
+    return (vec2<f32>(q) + 0.5) * f32(max(u.shaft_q.z, 1u));
+}
+
+// The view ray through the frame point c (pixel coordinates).
+fn ray_at(c: vec2<f32>) -> vec3<f32> {
+    let t = u.eye.w;
+    let hh = 0.5 * u.up.w;
+    let nx = (c.x - 0.5 * u.right.w) / hh * t;
+    let ny = -(c.y - hh) / hh * t;
+    return normalize(u.forward.xyz + u.right.xyz * nx + u.up.xyz * ny);
 }
 
 // The view ray's fog column at pixel px (a surface at distance dist):
@@ -123,7 +138,7 @@ fn source(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let l = light[0].xyz;
     let dist = textureLoad(g_distance, px, 0).x;
-    let ray = pixel_ray(px, u32(u.right.w), u32(u.up.w));
+    let ray = ray_at(texel_centre(q));
     let c = column(ray, dist, l);
     var s = vec3<f32>(0.0);
     if c.y > c.x {
@@ -162,8 +177,7 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
     // (0 on sky texels: their blur, read by the next pass, is even).
     var kl = 0.0;
     if textureLoad(g_material, px, 0).x != 0u {
-        let ray = pixel_ray(px, u32(u.right.w), u32(u.up.w));
-        let c = column(ray, textureLoad(g_distance, px, 0).x, l);
+        let c = column(ray_at(texel_centre(q)), textureLoad(g_distance, px, 0).x, l);
         kl = c.z * max(c.y - c.x, 0.0);
     }
     let taps = max(pass_q.q.x, 1u);
@@ -171,7 +185,7 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n_eff = f32(max(pass_q.q.z, 1u));
     let frame = vec2<f32>(u.right.w, u.up.w);
     let div = f32(max(u.shaft_q.z, 1u));
-    let p = vec2<f32>(px) + 0.5;
+    let p = texel_centre(q);
     let toward = light_image(l) - p;
     let f_max = stride * f32(taps - 1u) / n_eff;
     let m = max(0.0, kl * f_max);
