@@ -223,11 +223,15 @@ impl Radial {
             bound.push((&pipes.blur, group(input, output, &params(*p, last))));
         }
         let mut enc = gpu.device.create_command_encoder(&Default::default());
-        for (pipeline, g) in &bound {
+        {
+            // One compute pass: wgpu orders each dispatch after the writes
+            // of the one before it.
             let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(pipeline);
-            pass.set_bind_group(0, g, &[]);
-            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+            for (pipeline, g) in &bound {
+                pass.set_pipeline(pipeline);
+                pass.set_bind_group(0, g, &[]);
+                pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+            }
         }
         gpu.queue.submit([enc.finish()]);
         gpu.wait()
