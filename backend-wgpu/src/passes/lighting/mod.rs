@@ -403,16 +403,8 @@ impl LightingPasses {
             let q = &inputs.scene.lighting.godrays;
             let frame = (cam.width, cam.height);
             if q.method.screen_space() {
-                let radial = radial::RadialInputs {
-                    uniforms: &ubuf,
-                    distance: &gb.views[0],
-                    material: &gb.views[3],
-                    shadows: march.shadows,
-                    compare: &pipes.compare,
-                };
-                let size = godrays::marched_size(frame.0, frame.1, q.resolution_divisor);
-                let out = self.shafts.output(gpu, size);
-                self.radial.run(gpu, &radial, q, frame, out)?;
+                self.radial
+                    .run_on(gpu, pipes, &march, q, frame, &mut self.shafts)?;
             } else {
                 self.shafts
                     .march(gpu, pipes, &march, frame, q.resolution_divisor)?;

@@ -23,7 +23,8 @@
 use himmel_skymodel::{GodraysMethod, GodraysSettings, RenderError};
 use wgpu::util::DeviceExt;
 
-use super::godrays::{image, marched_size};
+use super::godrays::{image, marched_size, MarchInputs, Shafts};
+use super::pipelines::Pipelines;
 use crate::gpu::{bind_group, Gpu};
 
 /// One blur pass: its taps, their stride in the finest steps, the finest
@@ -157,6 +158,28 @@ fn pipes(gpu: &Gpu) -> RadialPipes {
 }
 
 impl Radial {
+    /// Runs the passes of `settings` with the march's inputs into the
+    /// shafts' image of `shafts`.
+    pub fn run_on(
+        &mut self,
+        gpu: &Gpu,
+        pipes: &Pipelines,
+        march: &MarchInputs,
+        settings: &GodraysSettings,
+        frame: (u32, u32),
+        shafts: &mut Shafts,
+    ) -> Result<(), RenderError> {
+        let inputs = RadialInputs {
+            uniforms: march.uniforms,
+            distance: march.distance,
+            material: march.material,
+            shadows: march.shadows,
+            compare: &pipes.compare,
+        };
+        let size = marched_size(frame.0, frame.1, settings.resolution_divisor);
+        self.run(gpu, &inputs, settings, frame, shafts.output(gpu, size))
+    }
+
     /// Runs the source and the blur passes of `settings` for a frame of
     /// `w` × `h` into `out` (the shafts' image, of
     /// [`marched_size`]), waits for the device.
