@@ -432,6 +432,9 @@ mod tests {
             serde_json::from_str(r#"{"method": "sousa", "samples": 24}"#).unwrap();
         assert!(g.method.screen_space() && g.samples == 24);
         assert!(!GodraysMethod::Toth.screen_space());
+        // `scene-template --world` shows the key with its default.
+        let t = serde_json::to_value(LightingSpec::default()).unwrap();
+        assert_eq!(t["godrays"]["samples"], 64);
         let mut l = LightingSpec::default();
         l.godrays.samples = 2;
         assert_eq!(l.validate().unwrap_err().field, "lighting.godrays.samples");
