@@ -393,6 +393,55 @@ mod tests {
         );
     }
 
+    /// Munich, 2024-06-21 11:00 UTC: the Sun 65° high, 6° east of south.
+    /// The screen-space shafts run looking south (its image 3.7 frame
+    /// heights above the centre, inside the reach of 5), not looking north
+    /// (behind), east (its image far to the side) or south through a 20°
+    /// field (12 heights above).
+    #[test]
+    fn screen_space_shafts_need_the_light_near_the_frame() {
+        let at = |look: [f64; 3], fov: f64, method| {
+            let mut s = Scene::default();
+            s.time.utc = "2024-06-21T11:00:00Z".into();
+            s.observer.lat_deg = 48.14;
+            s.observer.lon_deg = 11.58;
+            s.camera.projection = crate::Projection::Perspective;
+            (s.camera.width, s.camera.height, s.camera.fov_deg) = (160, 90, fov);
+            s.camera.position_m = Some([0.0, 1.7, 0.0]);
+            s.camera.look_at_m = Some(look);
+            s.effects = vec![Effect::Sun, Effect::World, Effect::Godrays];
+            s.world = Some(crate::WorldSpec {
+                gltf: "w.glb".into(),
+                ground: true,
+            });
+            s.fog = Some(crate::FogSpec {
+                scattering_per_m: 0.01,
+                ..crate::FogSpec::default()
+            });
+            s.lighting.godrays.method = method;
+            let state = crate::SkyState::at(&s).unwrap();
+            let p = state.passes.iter().find(|p| p.effect == Effect::Godrays);
+            p.unwrap().reason.clone()
+        };
+        use crate::GodraysMethod::{Mitchell, Sousa, Toth};
+        let (south, north, east) = ([0.0, 1.7, 10.0], [0.0, 1.7, -10.0], [10.0, 1.7, 0.0]);
+        assert_eq!(at(south, 60.0, Mitchell), None);
+        assert_eq!(at(north, 60.0, Toth), None);
+        for (look, fov) in [(north, 60.0), (east, 60.0), (south, 20.0)] {
+            let r = at(look, fov, Sousa).expect("skipped");
+            let SkipReason::ShaftLightOffScreen {
+                light,
+                off_axis_deg,
+            } = r
+            else {
+                panic!("{r}")
+            };
+            assert_eq!(light, "Sun");
+            assert!(off_axis_deg > 60.0, "{off_axis_deg}");
+            assert!(r.to_string().starts_with("the Sun is far off screen"));
+        }
+    }
+
     #[test]
     fn skip_keeps_the_first_reason() {
         let mut p = PlannedPass {
