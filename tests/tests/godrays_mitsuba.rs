@@ -21,6 +21,8 @@
 //! prints the table the README quotes, for the default quality and a
 //! full-resolution 128-step march. `HIMMEL_GODRAYS='{"steps": 16}'` measures
 //! other settings (the `lighting.godrays` object) instead of both.
+//! `screen_space_shafts_against_mitsuba` prints the `mitchell` and `sousa`
+//! rows, `sousa_against_mitchell_at_equal_taps` their time ratio.
 
 mod wgpu_common;
 mod world_common;
