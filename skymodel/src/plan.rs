@@ -48,6 +48,14 @@ pub enum SkipReason {
     /// Ambient occlusion without the sky's light (the atmosphere pass not
     /// requested): it multiplies nothing else.
     NoSkyLight,
+    /// Screen-space light shafts (`mitchell`, `sousa`) whose light is far
+    /// off screen ([`shaft_light_off_screen`]).
+    ShaftLightOffScreen {
+        /// `Sun` or `Moon`.
+        light: &'static str,
+        /// Its angle from the view axis, degrees.
+        off_axis_deg: f64,
+    },
     /// The texture pass of a scene without `sky_texture`.
     NoTexture,
     /// The clouds pass of a scene without a cloud layer (both
@@ -182,6 +190,13 @@ impl std::fmt::Display for SkipReason {
             SkipReason::NoSkyLight => f.write_str(
                 "no sky light to occlude (the atmosphere pass is not requested); AO multiplies only the sky's light",
             ),
+            SkipReason::ShaftLightOffScreen {
+                light,
+                off_axis_deg,
+            } => write!(
+                f,
+                "the {light} is far off screen for the screen-space light shafts ({off_axis_deg:.1}° from the view axis: behind the camera, or its image more than {OFF_SCREEN_WIDTHS} frame widths or heights beyond the frame)"
+            ),
             SkipReason::NoTexture => f.write_str("no sky texture in the scene"),
             SkipReason::NoClouds => f.write_str(
                 "no cloud layer in the scene (clouds.low.coverage and clouds.high.coverage are 0)",
@@ -267,6 +282,9 @@ pub fn plan(
                         Some(SkipReason::NoShaftLight)
                     }
                     Effect::Ao if !scene.wants(Effect::Atmosphere) => Some(SkipReason::NoSkyLight),
+                    Effect::Godrays if scene.lighting.godrays.method.screen_space() => {
+                        shaft_light_off_screen(scene, sun, moon)
+                    }
                     _ => None,
                 }
             };
@@ -277,6 +295,48 @@ pub fn plan(
             }
         })
         .collect()
+}
+
+/// How far beyond the frame's edge, in frame widths (heights), a light's
+/// image may lie for the screen-space light shafts to run.
+pub const OFF_SCREEN_WIDTHS: f64 = 2.0;
+
+/// Whether the light of the screen-space light shafts — the Sun when it is
+/// above the horizon, else the Moon — is *far off screen* for the
+/// perspective camera: behind it (at 90° or more from the view axis: its
+/// image, the point the radial blur converges on, is then mirrored through
+/// the frame's centre), or its image more than [`OFF_SCREEN_WIDTHS`] frame
+/// widths (heights) beyond the frame's edge, where every pixel's taps
+/// toward it lie at least two-thirds outside the frame (the blur has
+/// nothing to gather there).
+pub fn shaft_light_off_screen(
+    scene: &Scene,
+    sun: &SunState,
+    moon: &MoonState,
+) -> Option<SkipReason> {
+    let (light, dir) = if sun.alt_refracted_deg > 0.0 {
+        ("Sun", sun.dir())
+    } else {
+        ("Moon", glam::DVec3::from_array(moon.enu))
+    };
+    let cam = &scene.camera;
+    if cam.projection != crate::Projection::Perspective {
+        return None;
+    }
+    let (f, r, u) = cam.basis();
+    let d = dir.normalize_or_zero();
+    let off_axis_deg = f.dot(d).clamp(-1.0, 1.0).acos().to_degrees();
+    let (w, h) = cam.image_size();
+    let tan_v = (cam.fov_deg.to_radians() / 2.0).tan();
+    let tan_h = tan_v * w as f64 / h.max(1) as f64;
+    let reach = 1.0 + 2.0 * OFF_SCREEN_WIDTHS;
+    let far = f.dot(d) <= 0.0
+        || (r.dot(d) / f.dot(d) / tan_h).abs() > reach
+        || (u.dot(d) / f.dot(d) / tan_v).abs() > reach;
+    far.then_some(SkipReason::ShaftLightOffScreen {
+        light,
+        off_axis_deg,
+    })
 }
 
 /// The Sun pass does not run when its drawn disk lies entirely below the
@@ -338,6 +398,55 @@ mod tests {
             serde_json::to_string(&SkipReason::PlanetsBelowHorizon).unwrap(),
             "\"every planet is below the horizon\""
         );
+    }
+
+    /// Munich, 2024-06-21 11:00 UTC: the Sun 65° high, 6° east of south.
+    /// The screen-space shafts run looking south (its image 3.7 frame
+    /// heights above the centre, inside the reach of 5), not looking north
+    /// (behind), east (its image far to the side) or south through a 20°
+    /// field (12 heights above).
+    #[test]
+    fn screen_space_shafts_need_the_light_near_the_frame() {
+        let at = |look: [f64; 3], fov: f64, method| {
+            let mut s = Scene::default();
+            s.time.utc = "2024-06-21T11:00:00Z".into();
+            s.observer.lat_deg = 48.14;
+            s.observer.lon_deg = 11.58;
+            s.camera.projection = crate::Projection::Perspective;
+            (s.camera.width, s.camera.height, s.camera.fov_deg) = (160, 90, fov);
+            s.camera.position_m = Some([0.0, 1.7, 0.0]);
+            s.camera.look_at_m = Some(look);
+            s.effects = vec![Effect::Sun, Effect::World, Effect::Godrays];
+            s.world = Some(crate::WorldSpec {
+                gltf: "w.glb".into(),
+                ground: true,
+            });
+            s.fog = Some(crate::FogSpec {
+                scattering_per_m: 0.01,
+                ..crate::FogSpec::default()
+            });
+            s.lighting.godrays.method = method;
+            let state = crate::SkyState::at(&s).unwrap();
+            let p = state.passes.iter().find(|p| p.effect == Effect::Godrays);
+            p.unwrap().reason.clone()
+        };
+        use crate::GodraysMethod::{Mitchell, Sousa, Toth};
+        let (south, north, east) = ([0.0, 1.7, 10.0], [0.0, 1.7, -10.0], [10.0, 1.7, 0.0]);
+        assert_eq!(at(south, 60.0, Mitchell), None);
+        assert_eq!(at(north, 60.0, Toth), None);
+        for (look, fov) in [(north, 60.0), (east, 60.0), (south, 20.0)] {
+            let r = at(look, fov, Sousa).expect("skipped");
+            let SkipReason::ShaftLightOffScreen {
+                light,
+                off_axis_deg,
+            } = r
+            else {
+                panic!("{r}")
+            };
+            assert_eq!(light, "Sun");
+            assert!(off_axis_deg > 60.0, "{off_axis_deg}");
+            assert!(r.to_string().starts_with("the Sun is far off screen"));
+        }
     }
 
     #[test]

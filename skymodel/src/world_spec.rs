@@ -236,6 +236,23 @@ pub enum GodraysMethod {
     /// (2×2 PCF), N × N interleaved start offsets gathered over the block,
     /// at a reduced resolution with a depth-aware upsample.
     Toth,
+    /// Mitchell (GPU Gems 3, ch. 13): a screen-space radial blur, with
+    /// `samples` taps, of the light's visibility mask toward the light's
+    /// screen position, scaling each pixel's unoccluded fog column; its
+    /// decay and weight follow from the medium (`radial.wgsl`).
+    Mitchell,
+    /// Sousa (Crysis, SIGGRAPH 2007): the same blur in three passes of
+    /// `samples` / 3 taps each, every pass blurring the previous one's
+    /// output with a stride `samples` / 3 times longer.
+    Sousa,
+}
+
+impl GodraysMethod {
+    /// Whether the method works in screen space (and so needs the light
+    /// near the frame: [`crate::plan`]'s `ShaftLightOffScreen`).
+    pub fn screen_space(self) -> bool {
+        matches!(self, GodraysMethod::Mitchell | GodraysMethod::Sousa)
+    }
 }
 
 /// Light shafts: the fog's single scattering of the Sun, Moon and sky
@@ -259,8 +276,13 @@ pub struct GodraysSettings {
     /// step for the sky's in-scattering, each in its visibility map, in
     /// [0, 64] (default 8; 0 = no sky light in the fog). A step looks up
     /// every k-th cell, the next step the next ones, so that the march
-    /// sweeps them all.
+    /// sweeps them all (`toth` only: the screen-space methods leave the
+    /// sky's light in the fog out).
     pub sky_cells: u32,
+    /// Radial-blur taps per pixel in total (`mitchell`, `sousa`: three
+    /// passes of `samples` / 3), in [3, 256] (default 64). The screen-space
+    /// methods run at 1 / `resolution_divisor` of the frame too.
+    pub samples: u32,
 }
 
 impl Default for GodraysSettings {
@@ -271,6 +293,7 @@ impl Default for GodraysSettings {
             interleave: 4,
             resolution_divisor: 2,
             sky_cells: 8,
+            samples: 64,
         }
     }
 }
@@ -335,6 +358,7 @@ impl LightingSpec {
                 8.0,
             ),
             ("lighting.godrays.sky_cells", g.sky_cells as f64, 0.0, 64.0),
+            ("lighting.godrays.samples", g.samples as f64, 3.0, 256.0),
         ] {
             range(f, v, lo, hi)?;
         }
@@ -406,6 +430,16 @@ mod tests {
             (GodraysMethod::Toth, 8, 4)
         );
         assert!(serde_json::from_str::<GodraysSettings>(r#"{"method": "blur"}"#).is_err());
+        let g: GodraysSettings =
+            serde_json::from_str(r#"{"method": "sousa", "samples": 24}"#).unwrap();
+        assert!(g.method.screen_space() && g.samples == 24);
+        assert!(!GodraysMethod::Toth.screen_space());
+        // `scene-template --world` shows the key with its default.
+        let t = serde_json::to_value(LightingSpec::default()).unwrap();
+        assert_eq!(t["godrays"]["samples"], 64);
+        let mut l = LightingSpec::default();
+        l.godrays.samples = 2;
+        assert_eq!(l.validate().unwrap_err().field, "lighting.godrays.samples");
     }
 
     /// ∫ p dΩ over the sphere by the midpoint rule in cos θ (1e5 bands).

@@ -21,12 +21,15 @@
 //! prints the table the README quotes, for the default quality and a
 //! full-resolution 128-step march. `HIMMEL_GODRAYS='{"steps": 16}'` measures
 //! other settings (the `lighting.godrays` object) instead of both.
+//! `screen_space_shafts_against_mitsuba` prints the `mitchell` and `sousa`
+//! rows, `sousa_against_mitchell_at_equal_taps` their time ratio.
 
 mod wgpu_common;
 mod world_common;
 
 use himmel_skymodel::{
-    Effect, FogSpec, GodraysSettings, PassStat, RenderOutput, Scene, SkyRenderer, SkyState,
+    Effect, FogSpec, GodraysMethod, GodraysSettings, PassStat, RenderOutput, Scene, SkyRenderer,
+    SkyState,
 };
 use serde_json::Value;
 use world_common::metrics::GEOMETRY;
@@ -214,4 +217,160 @@ fn light_shafts_against_mitsuba() {
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The screen-space methods' qualities: `mitchell` and `sousa` at 63 taps
+/// in total (`sousa`: 3 × 21), on the half-resolution image (the default
+/// divisor) and at full resolution.
+fn screen_qualities() -> Vec<(&'static str, GodraysSettings)> {
+    let q = |method, resolution_divisor| GodraysSettings {
+        method,
+        samples: 63,
+        resolution_divisor,
+        ..GodraysSettings::default()
+    };
+    vec![
+        ("mitchell, 63 taps, ½ res", q(GodraysMethod::Mitchell, 2)),
+        ("mitchell, 63 taps, full res", q(GodraysMethod::Mitchell, 1)),
+        ("sousa, 3 × 21 taps, ½ res", q(GodraysMethod::Sousa, 2)),
+        ("sousa, 3 × 21 taps, full res", q(GodraysMethod::Sousa, 1)),
+    ]
+}
+
+/// Issue 15: the screen-space methods' error against the same references
+/// (published, no goal): bounded at what this version measures (lavapipe)
+/// plus a margin, so that a change that makes them worse shows. Their
+/// error is large: the mask is the light's visibility at the surfaces and
+/// the sky beyond them, not along the view ray, and the sky's light in the
+/// fog is left out (`toth` without it, `{"sky_cells": 0}`, errs 39.8 % in
+/// the sun room and 14.8 % in the atrium).
+#[test]
+fn screen_space_shafts_against_mitsuba() {
+    let cases: Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("tools/godrays_cases.json")).unwrap(),
+    )
+    .unwrap();
+    // Measured (error, FLIP) per case and quality, in the order of
+    // `screen_qualities`.
+    let measured = |name: &str| -> [(f64, f64); 4] {
+        match name {
+            "sun_room_fog" => [
+                (0.535, 0.643),
+                (0.495, 0.630),
+                (0.530, 0.641),
+                (0.480, 0.624),
+            ],
+            "atrium_fog" => [
+                (0.812, 0.668),
+                (0.783, 0.633),
+                (0.830, 0.678),
+                (0.806, 0.647),
+            ],
+            other => panic!("no bounds for case {other}"),
+        }
+    };
+    println!(
+        "| case | method, quality | mean relative error | FLIP | godrays ms (lavapipe, least of 3 frames) |"
+    );
+    println!("|---|---|---|---|---|");
+    let mut failures = Vec::new();
+    for c in cases["cases"].as_array().unwrap() {
+        let name = c["name"].as_str().unwrap();
+        let world = black_world(c);
+        let off = render(&case_scene(c, None), &world);
+        for ((q, settings), (e, f)) in screen_qualities().into_iter().zip(measured(name)) {
+            let m = measure(c, &world, &off, settings);
+            let ms = least_ms(&case_scene(c, Some(settings)), &world, 3);
+            println!(
+                "| {name} | {q} | {:.2} % | {:.3} | {ms:.1} |",
+                m.error * 100.0,
+                m.flip,
+            );
+            if !(m.error <= e + 0.03 && m.flip <= f + 0.03) {
+                failures.push(format!(
+                    "{name} {q}: error {:.4} (≤ {e} + 0.03), FLIP {:.3} (≤ {f} + 0.03)",
+                    m.error, m.flip
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
+}
+
+/// The godrays pass's least time over `frames` frames of `s` on one
+/// renderer (after a first frame that builds the pipelines).
+fn least_ms(s: &Scene, world: &himmel_world::World, frames: usize) -> f64 {
+    let state = SkyState::at(s).unwrap();
+    let mut r = wgpu_common::gpu();
+    r.set_world(world);
+    (0..=frames)
+        .map(|_| {
+            let out = r.render(s, &state).unwrap();
+            let p = out.passes.iter().find(|p| p.name == "godrays").unwrap();
+            assert!(p.ran, "{p:?}");
+            p.ms.unwrap_or(f64::NAN)
+        })
+        .skip(1)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// Issue 15: `sousa`'s time against `mitchell`'s at equal total taps (63),
+/// at full resolution in the sun room (160 × 90), from `--stats`' godrays
+/// ms (the least of 6 frames each, alternating, on one renderer). The
+/// issue asks for ≤ 0.6×; lavapipe does not show it: at equal taps per
+/// pixel `sousa` runs two passes more, each with its own per-texel set-up,
+/// and measures 1.2–1.7× `mitchell` here (2.1× at 640 × 360). The bound
+/// is that figure with a margin (see the README), so that a regression in
+/// either shows; it is not the issue's goal.
+#[test]
+fn sousa_against_mitchell_at_equal_taps() {
+    let cases: Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("tools/godrays_cases.json")).unwrap(),
+    )
+    .unwrap();
+    let c = &cases["cases"][0];
+    let world = black_world(c);
+    let [_, (_, mitchell), _, (_, sousa)] = screen_qualities()[..] else {
+        panic!("four qualities")
+    };
+    let (mut tm, mut ts) = (f64::INFINITY, f64::INFINITY);
+    for _ in 0..3 {
+        tm = tm.min(least_ms(&case_scene(c, Some(mitchell)), &world, 2));
+        ts = ts.min(least_ms(&case_scene(c, Some(sousa)), &world, 2));
+    }
+    let ratio = ts / tm;
+    println!("sousa {ts:.2} ms, mitchell {tm:.2} ms: sousa / mitchell = {ratio:.2}");
+    assert!(ratio <= 2.5, "sousa {ts} ms vs mitchell {tm} ms");
+}
+
+/// "Simulate only what the scene calls for": the screen-space methods do
+/// not run when the Sun is behind the camera (looking north in the sun
+/// room, the Sun low in the south), and `--stats` says why; `toth` runs.
+#[test]
+fn screen_space_shafts_skip_a_light_behind_the_camera() {
+    let cases: Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("tools/godrays_cases.json")).unwrap(),
+    )
+    .unwrap();
+    let c = &cases["cases"][0];
+    let world = black_world(c);
+    for (_, q) in screen_qualities()
+        .into_iter()
+        .chain([("toth", GodraysSettings::default())])
+    {
+        let mut s = case_scene(c, Some(q));
+        s.camera.look_at_m = Some([-2.0, 1.4, -6.0]);
+        let out = render(&s, &world);
+        let p = out.passes.iter().find(|p| p.name == "godrays").unwrap();
+        if q.method == GodraysMethod::Toth {
+            assert!(p.ran, "{p:?}");
+            continue;
+        }
+        let why = p.reason.clone().unwrap_or_default();
+        assert!(!p.ran && p.ms.is_none(), "{p:?}");
+        assert!(why.starts_with("the Sun is far off screen"), "{why}");
+        // Facing the Sun again, it runs.
+        let out = render(&case_scene(c, Some(q)), &world);
+        assert!(out.passes.iter().any(|p| p.name == "godrays" && p.ran));
+    }
 }

@@ -34,7 +34,8 @@ pub fn marched_size(w: u32, h: u32, divisor: u32) -> (u32, u32) {
     (w.div_ceil(d).max(1), h.div_ceil(d).max(1))
 }
 
-fn image(gpu: &Gpu, (w, h): (u32, u32)) -> wgpu::TextureView {
+/// An rgba32float image the shafts' passes write and read.
+pub fn image(gpu: &Gpu, (w, h): (u32, u32)) -> wgpu::TextureView {
     texture(
         gpu,
         "shafts",
@@ -61,7 +62,13 @@ pub fn uniforms(
         [f.scattering_per_m as f32, kind as f32, g as f32, 1.0],
         [
             settings.steps.max(1),
-            settings.interleave.max(1),
+            // The screen-space methods have no interleaved offsets: their
+            // image is gathered bilinearly (shade.wgsl).
+            if settings.method.screen_space() {
+                1
+            } else {
+                settings.interleave.max(1)
+            },
             settings.resolution_divisor.max(1),
             settings.sky_cells,
         ],
@@ -98,12 +105,7 @@ impl Shafts {
         divisor: u32,
     ) -> Result<(), RenderError> {
         let size = marched_size(w, h, divisor);
-        if self.image.as_ref().map(|i| i.0) != Some(size) {
-            self.image = Some((size, image(gpu, size)));
-        }
-        let Some((_, out)) = self.image.as_ref() else {
-            return Err(RenderError::Device("shafts image missing".into()));
-        };
+        let out = self.output(gpu, size);
         let tv = wgpu::BindingResource::TextureView;
         let group = bind_group(
             &gpu.device,
@@ -130,6 +132,15 @@ impl Shafts {
         }
         gpu.queue.submit([enc.finish()]);
         gpu.wait()
+    }
+
+    /// The shafts' image of `size` (kept while the size holds), which
+    /// the march or the screen-space blur (radial.rs) writes.
+    pub fn output(&mut self, gpu: &Gpu, size: (u32, u32)) -> &wgpu::TextureView {
+        if self.image.as_ref().map(|i| i.0) != Some(size) {
+            self.image = None;
+        }
+        &self.image.get_or_insert_with(|| (size, image(gpu, size))).1
     }
 
     /// The marched image of the last march, or (`on` false) a 1 × 1

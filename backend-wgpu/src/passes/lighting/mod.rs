@@ -17,7 +17,8 @@
 //!    specular), emission, fog and aerial perspective, written into the
 //!    target where the G-buffer has a surface; before it, when `godrays`
 //!    runs, the fog's in-scattering marched along the view rays
-//!    ([`godrays`], `godrays.wgsl`), which it adds.
+//!    ([`godrays`], `godrays.wgsl`) or blurred in screen space
+//!    ([`radial`], `radial.wgsl`), which it adds.
 //!
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
@@ -28,6 +29,7 @@ pub mod env;
 pub mod godrays;
 pub mod mesh;
 pub mod pipelines;
+pub mod radial;
 pub mod resources;
 pub mod view;
 
@@ -126,6 +128,7 @@ pub struct LightingPasses {
     shafts: godrays::Shafts,
     clouds: cloud_shadow::CloudShadows,
     ao: ao::Occlusion,
+    radial: radial::Radial,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -462,9 +465,15 @@ impl LightingPasses {
                 cell_view: self.maps.cell_matrices().ok_or_else(missing)?,
                 visibility: self.maps.visibility_view().ok_or_else(missing)?,
             };
-            let div = inputs.scene.lighting.godrays.resolution_divisor;
-            self.shafts
-                .march(gpu, pipes, &march, (cam.width, cam.height), div)?;
+            let q = &inputs.scene.lighting.godrays;
+            let frame = (cam.width, cam.height);
+            if q.method.screen_space() {
+                self.radial
+                    .run_on(gpu, pipes, &march, q, frame, &mut self.shafts)?;
+            } else {
+                self.shafts
+                    .march(gpu, pipes, &march, frame, q.resolution_divisor)?;
+            }
             Some(stat("godrays", true, Some(ms(tg)), None))
         } else {
             None

@@ -248,6 +248,7 @@ fn godrays_pipeline(gpu: &Gpu) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout)
         "godrays.wgsl",
         concat!(
             include_str!("../../shaders/lighting/common.wgsl"),
+            include_str!("../../shaders/lighting/shafts.wgsl"),
             include_str!("../../shaders/lighting/godrays.wgsl")
         ),
     );

@@ -29,48 +29,16 @@
 // The march runs on an image 1 / shaft_q.z of the frame's size, each texel
 // for the frame pixel at its block's centre. Sky pixels are not marched
 // (the sky's own fog is left out, as its extinction is).
-// common.wgsl (the uniforms, the view ray) is prepended.
+// common.wgsl (the uniforms, the view ray) and shafts.wgsl (the phase, the
+// lights' visibility) are prepended.
 
 @group(0) @binding(1) var g_distance: texture_2d<f32>;
 @group(0) @binding(2) var g_material: texture_2d<u32>;
-@group(0) @binding(3) var shadows: texture_depth_2d_array;
-@group(0) @binding(4) var cmp_sampler: sampler_comparison;
 @group(0) @binding(5) var shafts_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(6) var<storage, read> cells: array<SkyCell>;
 @group(0) @binding(7) var<storage, read> cell_view: array<mat4x4<f32>>;
 @group(0) @binding(8) var visibility: texture_depth_2d_array;
 
-
-// The fog's phase function at cos θ, 1/sr.
-fn phase(c: f32) -> f32 {
-    let kind = u.shafts.y;
-    if kind < 0.5 {
-        return 1.0 / (4.0 * PI);
-    }
-    if kind < 1.5 {
-        return 3.0 / (16.0 * PI) * (1.0 + c * c);
-    }
-    let g = u.shafts.z;
-    let d = 1.0 + g * g - 2.0 * g * c;
-    return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
-}
-
-// Visibility of a directional light (cascades first..first+count) at a
-// point x in the air, view depth view_depth.
-fn light_visibility(first: u32, count: u32, x: vec3<f32>, view_depth: f32) -> f32 {
-    if count == 0u {
-        return 1.0;
-    }
-    let layer = cascade_layer(first, count, view_depth);
-    let info = u.cascade_info[layer];
-    let s = u.cascade[layer] * vec4<f32>(x, 1.0);
-    let uv = light_uv(s);
-    if !inside(uv) || s.z <= 0.0 {
-        return 1.0;
-    }
-    let z = min(s.z, 1.0) - info.x / info.y;
-    return textureSampleCompareLevel(shadows, cmp_sampler, uv, i32(layer), z);
-}
 
 // Whether sky cell k's light reaches x (its visibility map's nearest
 // texel; 1 outside the map).
