@@ -39,9 +39,9 @@ pub enum SkipReason {
     Culled(Culled),
     /// A lighting pass of a scene without a 3D world.
     NoWorld,
-    /// Shadow maps while neither the Sun nor the Moon is above the horizon.
+    /// Shadow maps while neither the Sun nor the Moon lights the world.
     NoDirectLight,
-    /// Light shafts while neither the Sun nor the Moon is above the horizon.
+    /// Light shafts while neither the Sun nor the Moon lights the world.
     NoShaftLight,
     /// Light shafts without fog, or in fog that does not scatter.
     NoFogScattering,
@@ -179,10 +179,10 @@ impl std::fmt::Display for SkipReason {
             SkipReason::Culled(c) => c.fmt(f),
             SkipReason::NoWorld => f.write_str("no 3D world in the scene"),
             SkipReason::NoDirectLight => f.write_str(
-                "neither the Sun nor the Moon is above the horizon: nothing casts a shadow",
+                "neither the Sun nor the Moon lights the world (each is below the horizon or not among the effects): nothing casts a shadow",
             ),
             SkipReason::NoShaftLight => f.write_str(
-                "neither the Sun nor the Moon is above the horizon: no light to scatter in the fog",
+                "neither the Sun nor the Moon lights the world (each is below the horizon or not among the effects): no light to scatter in the fog",
             ),
             SkipReason::NoFogScattering => f.write_str(
                 "no fog scatters light (the scene has no fog, or its scattering_per_m is 0)",
@@ -239,6 +239,13 @@ impl PlannedPass {
     }
 }
 
+/// Whether the Sun or the Moon, requested and above the horizon, lights a
+/// world (what shadows and light shafts need).
+fn lights_the_world(scene: &Scene, sun: &SunState, moon: &MoonState) -> bool {
+    (sun.alt_refracted_deg > 0.0 && scene.wants(Effect::Sun))
+        || (moon.alt_refracted_deg > 0.0 && scene.wants(Effect::Moon))
+}
+
 /// The pass plan of `scene` at an instant with this Sun, Moon and these
 /// planets (refracted ENU directions): every effect, back to front.
 pub fn plan(
@@ -266,19 +273,13 @@ pub fn plan(
                     Effect::Clouds if !scene.clouds.has_low() && !scene.clouds.has_high() => {
                         Some(SkipReason::NoClouds)
                     }
-                    Effect::Shadows
-                        if sun.alt_refracted_deg <= 0.0
-                            && (moon.alt_refracted_deg <= 0.0 || !scene.wants(Effect::Moon)) =>
-                    {
+                    Effect::Shadows if !lights_the_world(scene, sun, moon) => {
                         Some(SkipReason::NoDirectLight)
                     }
                     Effect::Godrays if !scene.fog.is_some_and(|f| f.scattering_per_m > 0.0) => {
                         Some(SkipReason::NoFogScattering)
                     }
-                    Effect::Godrays
-                        if sun.alt_refracted_deg <= 0.0
-                            && (moon.alt_refracted_deg <= 0.0 || !scene.wants(Effect::Moon)) =>
-                    {
+                    Effect::Godrays if !lights_the_world(scene, sun, moon) => {
                         Some(SkipReason::NoShaftLight)
                     }
                     Effect::Ao if !scene.wants(Effect::Atmosphere) => Some(SkipReason::NoSkyLight),
@@ -447,6 +448,37 @@ mod tests {
             assert!(off_axis_deg > 60.0, "{off_axis_deg}");
             assert!(r.to_string().starts_with("the Sun is far off screen"));
         }
+    }
+
+    /// Shadows and light shafts need a light that lights the world: the
+    /// Sun high at noon does not when `sun` is not among the effects.
+    #[test]
+    fn shadows_need_a_requested_light() {
+        let reasons = |effects: &[Effect]| {
+            let mut s = Scene::default();
+            s.time.utc = "2024-06-21T11:00:00Z".into();
+            s.effects = effects.to_vec();
+            s.world = Some(crate::WorldSpec {
+                gltf: "w.glb".into(),
+                ground: false,
+            });
+            s.fog = Some(crate::FogSpec::default());
+            let state = crate::SkyState::at(&s).unwrap();
+            [Effect::Shadows, Effect::Godrays].map(|e| {
+                let p = state.passes.iter().find(|p| p.effect == e).unwrap();
+                p.reason.clone()
+            })
+        };
+        let lit = [Effect::Sun, Effect::World, Effect::Shadows, Effect::Godrays];
+        assert_eq!(reasons(&lit), [None, None]);
+        let unlit = [Effect::World, Effect::Shadows, Effect::Godrays];
+        assert_eq!(
+            reasons(&unlit),
+            [
+                Some(SkipReason::NoDirectLight),
+                Some(SkipReason::NoShaftLight)
+            ]
+        );
     }
 
     #[test]

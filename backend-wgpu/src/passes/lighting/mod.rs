@@ -23,8 +23,8 @@
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
 
-pub mod cloud_shadow;
 pub mod ao;
+pub mod cloud_shadow;
 pub mod env;
 pub mod godrays;
 pub mod mesh;
@@ -520,32 +520,17 @@ impl LightingPasses {
             &pipes.sky_out_layout,
             &[tv(&gb.sky[0]), tv(&gb.sky[1])],
         );
-        let sky_in = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("sky in"),
-            layout: &pipes.sky_in_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: tv(&gb.sky[0]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: tv(&gb.sky[1]),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: tv(shafts_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 8,
-                    resource: tv(cloud_map),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 5,
-                    resource: tv(ao_view),
-                },
+        let sky_in = sky_in_group(
+            gpu,
+            pipes,
+            [
+                (2, &gb.sky[0]),
+                (3, &gb.sky[1]),
+                (4, shafts_view),
+                (5, ao_view),
+                (8, cloud_map),
             ],
-        });
+        );
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let groups = (cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
         if inputs.env.is_some() {
@@ -570,6 +555,28 @@ impl LightingPasses {
             shafts_stat,
         ))
     }
+}
+
+/// Group 1 of the lighting pass: the sky pass's outputs (bindings 2, 3),
+/// the light shafts (4), the ambient occlusion (5) and the cloud-shadow
+/// map (8).
+fn sky_in_group(
+    gpu: &Gpu,
+    pipes: &Pipelines,
+    views: [(u32, &wgpu::TextureView); 5],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry> = views
+        .iter()
+        .map(|&(binding, v)| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(v),
+        })
+        .collect();
+    gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sky in"),
+        layout: &pipes.sky_in_layout,
+        entries: &entries,
+    })
 }
 
 /// The lighting uniforms of this frame.
