@@ -458,6 +458,7 @@ mod tests {
             let mut s = Scene::default();
             s.time.utc = "2024-06-21T11:00:00Z".into();
             s.effects = effects.to_vec();
+            s.camera.projection = crate::Projection::Perspective;
             s.world = Some(crate::WorldSpec {
                 gltf: "w.glb".into(),
                 ground: false,
