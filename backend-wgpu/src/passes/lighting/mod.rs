@@ -17,15 +17,17 @@
 //!    specular), emission, fog and aerial perspective, written into the
 //!    target where the G-buffer has a surface; before it, when `godrays`
 //!    runs, the fog's in-scattering marched along the view rays
-//!    ([`godrays`], `godrays.wgsl`) or blurred in screen space
-//!    ([`radial`], `radial.wgsl`), which it adds.
+//!    ([`godrays`], `godrays.wgsl`), blurred in screen space
+//!    ([`radial`], `radial.wgsl`) or integrated through a frustum-aligned
+//!    volume ([`froxel`], `froxel.wgsl`), which it adds.
 //!
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
 
-pub mod cloud_shadow;
 pub mod ao;
+pub mod cloud_shadow;
 pub mod env;
+pub mod froxel;
 pub mod godrays;
 pub mod mesh;
 pub mod pipelines;
@@ -129,6 +131,7 @@ pub struct LightingPasses {
     clouds: cloud_shadow::CloudShadows,
     ao: ao::Occlusion,
     radial: radial::Radial,
+    froxel: froxel::Froxels,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -470,6 +473,10 @@ impl LightingPasses {
             if q.method.screen_space() {
                 self.radial
                     .run_on(gpu, pipes, &march, q, frame, &mut self.shafts)?;
+            } else if q.method == himmel_skymodel::GodraysMethod::Froxel {
+                let c = &pipes.compare;
+                self.froxel
+                    .run_on(gpu, &march, c, q, cam, &mut self.shafts)?;
             } else {
                 self.shafts
                     .march(gpu, pipes, &march, frame, q.resolution_divisor)?;
