@@ -278,7 +278,8 @@ pub struct GodraysSettings {
     /// Interleaving: N × N start offsets of the march, one per pixel of
     /// each N × N block of the marched image, averaged over the block where
     /// the depth is continuous (an N²-fold finer march), in [1, 8]
-    /// (default 4).
+    /// (default 4); `froxel`: the Sun's and Moon's samples per froxel and
+    /// frame, stratified over its slice.
     pub interleave: u32,
     /// The march runs on an image this many times smaller on each side,
     /// upsampled by depth (bilateral), in [1, 8] (default 2).

@@ -7,8 +7,9 @@
 //! 1. **extent** — the farthest surface's distance (an atomic maximum over
 //!    the G-buffer, kept on the device; the previous frame's kept beside);
 //! 2. **inject** — each froxel's in-scattering per metre from the Sun, the
-//!    Moon (shadow maps) and the sky (its cells' visibility maps, as
-//!    `toth`), at a point jittered per frame, blended with the previous
+//!    Moon (shadow maps, at `interleave` points stratified over the slice)
+//!    and the sky (its cells' visibility maps, as `toth`, at the first),
+//!    the points jittered per frame, blended with the previous
 //!    frame's volume at the reprojected place (`temporal`);
 //! 3. **integrate** — front to back along each column, energy-conserving;
 //! 4. **apply** — each pixel's integral at its surface's distance, into
@@ -16,8 +17,9 @@
 //!    which the lighting pass adds as `toth`'s.
 //!
 //! The blended volumes alternate between two textures; the history holds
-//! while the grid and the temporal weight stay, across the frames of one
-//! renderer (`himmel render --frames N`).
+//! while the grid, the temporal weight, the world and the fog stay,
+//! across the frames of one renderer (`himmel render --frames N`); the
+//! frames' jitter sequence starts again with a new grid, world or fog.
 
 use glam::{Mat4, Vec3};
 use himmel_skymodel::{GodraysSettings, RenderError};
@@ -54,6 +56,16 @@ struct Volumes {
     integrated: wgpu::TextureView,
 }
 
+/// What a volume's history belongs to: the world's identity
+/// ([`super::mesh::identity`]) and the fog (σ_s, σ_t, top).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Key {
+    /// The world's identity.
+    pub world: (usize, usize, usize),
+    /// The fog's σ_s, σ_t (1/m) and top (m).
+    pub fog: [f32; 3],
+}
+
 /// What the last frame left for the next one.
 #[derive(Clone, Copy)]
 struct History {
@@ -61,6 +73,7 @@ struct History {
     eye: Vec3,
     grid: [u32; 3],
     temporal: f32,
+    key: Key,
 }
 
 /// The froxel pass's pipelines, volumes and history.
@@ -184,7 +197,7 @@ impl Froxels {
         march: &MarchInputs,
         compare: &wgpu::Sampler,
         settings: &GodraysSettings,
-        cam: &WorldCamera,
+        (cam, key): (&WorldCamera, Key),
         shafts: &mut Shafts,
     ) -> Result<(), RenderError> {
         let (w, h) = (cam.width, cam.height);
@@ -198,6 +211,7 @@ impl Froxels {
                 integrated: volume(gpu, grid),
             });
             self.history = None;
+            self.frame = 0;
         }
         let [extent, scratch] = self.extent.get_or_insert_with(|| {
             [8, 4].map(|size| {
@@ -214,9 +228,13 @@ impl Froxels {
         let Some(vol) = self.volumes.as_ref() else {
             return Err(RenderError::Device("froxel volumes missing".into()));
         };
+        if self.history.is_some_and(|p| p.grid != grid || p.key != key) {
+            self.history = None;
+            self.frame = 0;
+        }
         let held = self
             .history
-            .filter(|p| p.grid == grid && p.temporal == temporal && temporal > 0.0);
+            .filter(|p| p.temporal == temporal && temporal > 0.0);
         let prev = held.map_or(Mat4::IDENTITY, |p| p.view_proj);
         let prev_eye = held.map_or(Vec3::ZERO, |p| p.eye);
         let u = FroxelUniforms {
@@ -227,7 +245,12 @@ impl Froxels {
                 prev_eye.z,
                 if held.is_some() { 1.0 } else { 0.0 },
             ],
-            grid: [grid[0], grid[1], grid[2], self.frame],
+            grid: [
+                grid[0],
+                grid[1],
+                grid[2],
+                (self.frame & 0xffff) | (settings.interleave.clamp(1, 8) << 16),
+            ],
             params: [
                 temporal,
                 jitter(self.frame),
@@ -314,6 +337,7 @@ impl Froxels {
             eye: cam.eye,
             grid,
             temporal,
+            key,
         });
         self.frame = self.frame.wrapping_add(1);
         Ok(())

@@ -474,9 +474,13 @@ impl LightingPasses {
                 self.radial
                     .run_on(gpu, pipes, &march, q, frame, &mut self.shafts)?;
             } else if q.method == himmel_skymodel::GodraysMethod::Froxel {
+                let key = froxel::Key {
+                    world: world.identity,
+                    fog: [u.shafts[0], u.fog[0], u.fog[1]],
+                };
                 let c = &pipes.compare;
                 self.froxel
-                    .run_on(gpu, &march, c, q, cam, &mut self.shafts)?;
+                    .run_on(gpu, &march, c, q, (cam, key), &mut self.shafts)?;
             } else {
                 self.shafts
                     .march(gpu, pipes, &march, frame, q.resolution_divisor)?;

@@ -6,13 +6,14 @@
 //   through the block's centre; slice k covers the distances along that
 //   ray [t_k, t_k+1), t_k = D (k / N)², D the frame's farthest surface
 //   (`extent`), N the slices;
-// * `inject`: per froxel the fog's in-scattering per metre (cd/m²/m) at
-//   one point of the slice's part inside the fog (y ≤ top), its place
-//   jittered per frame:
+// * `inject`: per froxel the fog's in-scattering per metre (cd/m²/m),
+//   the Sun's and Moon's at n points stratified over the slice's part
+//   inside the fog (y ≤ top; n = `interleave`), the sky's at the first,
+//   their places jittered per frame:
 //     S = σ_s [p(θ_sun) E_sun T_sun(y) V_sun(x) + (Moon) + Σ_k p(θ_k) S_k
 //         T_k(y) V_k(x)]
 //   with godrays.wgsl's terms (the sky's cells as its march takes them,
-//   the slices and the frames taking turns), then blended with the
+//   the slices taking turns), then blended with the
 //   previous frame's volume at the froxel centre's reprojected place
 //   (weight `temporal`; history outside the previous frustum or volume is
 //   rejected);
@@ -32,7 +33,8 @@ struct Froxel {
     prev_view_proj: mat4x4<f32>,
     // xyz: the previous eye; w: 1 when the history holds.
     prev_eye: vec4<f32>,
-    // Columns x, y, slices, the frame's number.
+    // Columns x, y, slices; w: the frame's number (low 16 bits) and the
+    // samples per froxel (high 16 bits).
     grid: vec4<u32>,
     // x: the history's weight; y: this frame's jitter in [0, 1); z: the
     // froxel's side in pixels; w: 0.
@@ -136,30 +138,40 @@ fn inject(@builtin(global_invocation_id) gid: vec3<u32>) {
     // columns.
     let cell = f32((gid.x & 1u) + 2u * (gid.y & 1u)) * 0.25;
     let jit = fract(fx.params.y + cell);
-    let t = mix(seg.x, seg.y, jit);
     let eye = u.eye.xyz;
-    let x = eye + ray * t;
     let top = u.fog.y;
     let st = u.fog.x;
-    let depth = max(top - x.y, 0.0);
     let fwd = dot(ray, u.forward.xyz);
+    // The Sun and the Moon at n points stratified over the slice's part
+    // in the fog (the jitter shifting them all), the sky's cells at the
+    // first.
+    let n = max(fx.grid.w >> 16u, 1u);
     var l = vec3<f32>(0.0);
-    if u.sun_dir.w > 0.5 && u.sun_dir.y > 0.0 {
-        let tl = exp(-st * depth / max(u.sun_dir.y, 1e-4));
-        let v = light_visibility(0u, u.counts.y, x, t * fwd);
-        l += u.sun_rgb.rgb * (phase(dot(ray, u.sun_dir.xyz)) * tl * v);
+    for (var m = 0u; m < n; m++) {
+        let t = mix(seg.x, seg.y, (f32(m) + jit) / f32(n));
+        let x = eye + ray * t;
+        let depth = max(top - x.y, 0.0);
+        if u.sun_dir.w > 0.5 && u.sun_dir.y > 0.0 {
+            let tl = exp(-st * depth / max(u.sun_dir.y, 1e-4));
+            let v = light_visibility(0u, u.counts.y, x, t * fwd);
+            l += u.sun_rgb.rgb * (phase(dot(ray, u.sun_dir.xyz)) * tl * v / f32(n));
+        }
+        if u.moon_dir.w > 0.5 && u.moon_dir.y > 0.0 {
+            let tl = exp(-st * depth / max(u.moon_dir.y, 1e-4));
+            let v = light_visibility(u.flags.y, u.counts.z, x, t * fwd);
+            l += u.moon_rgb.rgb * (phase(dot(ray, u.moon_dir.xyz)) * tl * v / f32(n));
+        }
     }
-    if u.moon_dir.w > 0.5 && u.moon_dir.y > 0.0 {
-        let tl = exp(-st * depth / max(u.moon_dir.y, 1e-4));
-        let v = light_visibility(u.flags.y, u.counts.z, x, t * fwd);
-        l += u.moon_rgb.rgb * (phase(dot(ray, u.moon_dir.xyz)) * tl * v);
-    }
+    let t = mix(seg.x, seg.y, jit / f32(n));
+    let x = eye + ray * t;
+    let depth = max(top - x.y, 0.0);
     let sky_per = u.shaft_q.w;
     if u.flags.x == 1u && u.counts.x > 0u && sky_per > 0u {
-        // As the march: the column's interleaved set, the slices and the
-        // frames taking turns over the sets and over the cells in them.
+        // As the march: the column's interleaved set, the slices taking
+        // turns over the sets and over the cells in them (the same ones
+        // every frame: turning them over the frames flickers).
         let side = max(u.flags.z, 1u);
-        let turn = gid.z + fx.grid.w;
+        let turn = gid.z;
         let set_i = ((gid.x % side) + (gid.y % side) * side + turn) % (side * side);
         let stride = clamp((u.counts.x + u.flags.w + sky_per - 1u) / sky_per, 1u, fx.grid.z);
         l += sky_light(x, depth, ray, set_i, turn % stride, stride);
