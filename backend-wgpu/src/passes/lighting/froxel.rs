@@ -187,6 +187,39 @@ fn pipes(gpu: &Gpu) -> FroxelPipes {
     }
 }
 
+/// This frame's froxel uniforms: the history `held` (if any), the grid,
+/// the frame's number and the settings' weight, samples and divisor.
+fn uniforms(
+    held: Option<History>,
+    grid: [u32; 3],
+    frame: u32,
+    settings: &GodraysSettings,
+) -> FroxelUniforms {
+    let prev = held.map_or(Mat4::IDENTITY, |p| p.view_proj);
+    let prev_eye = held.map_or(Vec3::ZERO, |p| p.eye);
+    FroxelUniforms {
+        prev_view_proj: prev.to_cols_array(),
+        prev_eye: [
+            prev_eye.x,
+            prev_eye.y,
+            prev_eye.z,
+            if held.is_some() { 1.0 } else { 0.0 },
+        ],
+        grid: [
+            grid[0],
+            grid[1],
+            grid[2],
+            (frame & 0xffff) | (settings.interleave.clamp(1, 8) << 16),
+        ],
+        params: [
+            held.map_or(0.0, |p| p.temporal),
+            jitter(frame),
+            settings.resolution_divisor.max(1) as f32,
+            0.0,
+        ],
+    }
+}
+
 impl Froxels {
     /// Runs the four passes for `cam`'s frame with the march's inputs into
     /// the shafts' image of `shafts` (full resolution), waits for the
@@ -235,29 +268,7 @@ impl Froxels {
         let held = self
             .history
             .filter(|p| p.temporal == temporal && temporal > 0.0);
-        let prev = held.map_or(Mat4::IDENTITY, |p| p.view_proj);
-        let prev_eye = held.map_or(Vec3::ZERO, |p| p.eye);
-        let u = FroxelUniforms {
-            prev_view_proj: prev.to_cols_array(),
-            prev_eye: [
-                prev_eye.x,
-                prev_eye.y,
-                prev_eye.z,
-                if held.is_some() { 1.0 } else { 0.0 },
-            ],
-            grid: [
-                grid[0],
-                grid[1],
-                grid[2],
-                (self.frame & 0xffff) | (settings.interleave.clamp(1, 8) << 16),
-            ],
-            params: [
-                temporal,
-                jitter(self.frame),
-                settings.resolution_divisor.max(1) as f32,
-                0.0,
-            ],
-        };
+        let u = uniforms(held, grid, self.frame, settings);
         let ubuf = gpu
             .device
             .create_buffer_init(&wgpu::util::BufferInitDescriptor {
