@@ -288,9 +288,9 @@ pub struct GodraysSettings {
     /// step for the sky's in-scattering, each in its visibility map, in
     /// [0, 64] (default 8; 0 = no sky light in the fog). A step looks up
     /// every k-th cell, the next step the next ones, so that the march
-    /// sweeps them all (`toth`; `froxel` the same along each column, the
-    /// cells turning over the frames; the screen-space methods leave the
-    /// sky's light in the fog out).
+    /// sweeps them all (`toth`; `froxel` the same per froxel along each
+    /// column; the screen-space methods leave the sky's light in the fog
+    /// out).
     pub sky_cells: u32,
     /// Radial-blur taps per pixel in total (`mitchell`, `sousa`: three
     /// passes of `samples` / 3), in [3, 256] (default 64). The screen-space

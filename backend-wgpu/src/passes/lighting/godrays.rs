@@ -188,5 +188,13 @@ mod tests {
         );
         let (a, _) = uniforms(Some(&f), &s, false);
         assert_eq!(a[3], 0.0);
+        // `froxel` writes a full-resolution image: no interleave, no
+        // divisor in the gather.
+        let s = GodraysSettings {
+            method: GodraysMethod::Froxel,
+            ..s
+        };
+        let (_, c) = uniforms(Some(&f), &s, true);
+        assert_eq!(c, [s.steps, 1, 1, s.sky_cells]);
     }
 }
