@@ -22,73 +22,22 @@
 //! full-resolution 128-step march. `HIMMEL_GODRAYS='{"steps": 16}'` measures
 //! other settings (the `lighting.godrays` object) instead of both.
 //! `screen_space_shafts_against_mitsuba` prints the `mitchell` and `sousa`
-//! rows, `sousa_against_mitchell_at_equal_taps` their time ratio,
-//! `froxel_against_mitsuba` the `froxel` rows.
+//! rows, `sousa_against_mitchell_at_equal_taps` their time ratio;
+//! `godrays_froxel` the `froxel` rows (its own binary: its frames do not
+//! run beside this one's timings).
 
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{
-    Effect, FogSpec, GodraysMethod, GodraysSettings, PassStat, RenderOutput, Scene, SkyRenderer,
-    SkyState,
-};
+use himmel_skymodel::{GodraysMethod, GodraysSettings, RenderOutput, Scene, SkyRenderer, SkyState};
 use serde_json::Value;
-use world_common::metrics::GEOMETRY;
-use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage};
-
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn case_scene(c: &Value, godrays: Option<GodraysSettings>) -> Scene {
-    let mut s = world_common::cases::case_scene(c);
-    let fog: FogSpec = serde_json::from_value(c["fog"].clone()).expect("a case's `fog`");
-    s.fog = Some(fog);
-    if let Some(g) = godrays {
-        s.effects.push(Effect::Godrays);
-        s.lighting.godrays = g;
-    }
-    s.validate().expect("a valid scene");
-    s
-}
+use world_common::shafts::{black_world, case_scene, measure_output, root, Measured};
 
 fn render(s: &Scene, world: &himmel_world::World) -> RenderOutput {
     let state = SkyState::at(s).unwrap();
     let mut r = wgpu_common::gpu();
     r.set_world(world);
     r.render(s, &state).unwrap()
-}
-
-/// The case's world with every surface black (as the reference's).
-fn black_world(c: &Value) -> himmel_world::World {
-    let mut w = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
-    for m in &mut w.materials {
-        m.base_color = [0.0, 0.0, 0.0, 1.0];
-        m.base_color_texture = None;
-        m.metallic = 0.0;
-        m.roughness = 1.0;
-        m.emissive = [0.0; 3];
-    }
-    w
-}
-
-fn masked(img: &RgbImage, mask: &[bool]) -> RgbImage {
-    RgbImage {
-        width: img.width,
-        height: img.height,
-        pixels: img
-            .pixels
-            .iter()
-            .zip(mask)
-            .map(|(p, m)| if *m { *p } else { [0.0; 3] })
-            .collect(),
-    }
-}
-
-struct Measured {
-    error: f64,
-    flip: f64,
-    ms: f64,
 }
 
 /// The added radiance of `quality` against the reference.
@@ -100,47 +49,6 @@ fn measure(
 ) -> Measured {
     let on = render(&case_scene(c, Some(quality)), world);
     measure_output(c, &on, off)
-}
-
-/// The added radiance of the render `on` against the reference.
-fn measure_output(c: &Value, on: &RenderOutput, off: &RenderOutput) -> Measured {
-    let name = c["name"].as_str().unwrap();
-    let stat: &PassStat = on.passes.iter().find(|p| p.name == "godrays").unwrap();
-    assert!(stat.ran, "{stat:?}");
-    let added = RgbImage {
-        width: on.image.width,
-        height: on.image.height,
-        pixels: on
-            .image
-            .pixels
-            .iter()
-            .zip(&off.image.pixels)
-            .map(|(a, b)| [0, 1, 2].map(|k| a[k] - b[k]))
-            .collect(),
-    };
-    if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
-        let p = std::path::Path::new(&d).join(format!("{name}_added.exr"));
-        let img = himmel_skymodel::HdrImage {
-            pixels: added.pixels.clone(),
-            ..on.image.clone()
-        };
-        himmel_cpu::output::write_exr(&p, &img).unwrap();
-    }
-    let dir = root().join("tests/fixtures/godrays_ref");
-    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
-    let mask = mask_channel(
-        &read_exr(dir.join(format!("{name}_mask.exr"))).unwrap(),
-        GEOMETRY,
-    );
-    Measured {
-        error: mean_relative_error(&added, &reference, &mask),
-        flip: flip(
-            &masked(&added, &mask),
-            &masked(&reference, &mask),
-            Some(&mask),
-        ),
-        ms: stat.ms.unwrap_or(f64::NAN),
-    }
 }
 
 #[test]
@@ -347,87 +255,6 @@ fn sousa_against_mitchell_at_equal_taps() {
     let ratio = ts / tm;
     println!("sousa {ts:.2} ms, mitchell {tm:.2} ms: sousa / mitchell = {ratio:.2}");
     assert!(ratio <= 2.5, "sousa {ts} ms vs mitchell {tm} ms");
-}
-
-/// `froxel` (issue 15's goal: ≤ 15 % mean relative error) at its default
-/// quality (2 × 2-pixel froxels, 32 slices, 4 samples of the Sun per
-/// froxel, 8 sky cells, `temporal` 0.9): one frame with no history (a new
-/// world starts it afresh)
-/// and the 16th frame of a static sequence on one renderer (the history
-/// averaging the jittered slices). Bounded at what this version measures
-/// (lavapipe) plus a margin.
-#[test]
-fn froxel_against_mitsuba() {
-    let cases: Value = serde_json::from_str(
-        &std::fs::read_to_string(root().join("tools/godrays_cases.json")).unwrap(),
-    )
-    .unwrap();
-    // `HIMMEL_GODRAYS='{"method": "froxel", "sky_cells": 64}'` measures
-    // other settings, held to the default's bounds.
-    let q = std::env::var("HIMMEL_GODRAYS")
-        .ok()
-        .and_then(|j| serde_json::from_str::<GodraysSettings>(&j).ok())
-        .filter(|g| g.method == GodraysMethod::Froxel)
-        .unwrap_or(GodraysSettings {
-            method: GodraysMethod::Froxel,
-            ..GodraysSettings::default()
-        });
-    let measured = |name: &str| -> [(f64, f64); 2] {
-        match name {
-            "sun_room_fog" => [(0.1376, 0.235), (0.1353, 0.234)],
-            "atrium_fog" => [(0.0281, 0.055), (0.0262, 0.053)],
-            other => panic!("no bounds for case {other}"),
-        }
-    };
-    println!(
-        "| case | method, quality | mean relative error | FLIP | godrays ms (lavapipe, least of 16 frames) |"
-    );
-    println!("|---|---|---|---|---|");
-    let mut failures = Vec::new();
-    for c in cases["cases"].as_array().unwrap() {
-        let name = c["name"].as_str().unwrap();
-        let world = black_world(c);
-        let off = render(&case_scene(c, None), &world);
-        let s = case_scene(c, Some(q));
-        let single = measure(c, &world, &off, q);
-        let state = SkyState::at(&s).unwrap();
-        let mut r = wgpu_common::gpu();
-        r.set_world(&world);
-        let mut last = None;
-        let mut ms = f64::INFINITY;
-        for _ in 0..16 {
-            let out = r.render(&s, &state).unwrap();
-            let p = out.passes.iter().find(|p| p.name == "godrays").unwrap();
-            ms = ms.min(p.ms.unwrap_or(f64::NAN));
-            last = Some(out);
-        }
-        drop(r);
-        let seq = measure_output(c, last.as_ref().unwrap(), &off);
-        if seq.error >= single.error {
-            failures.push(format!(
-                "{name}: the history does not converge: {} after 16 frames, {} after 1",
-                seq.error, single.error
-            ));
-        }
-        for ((label, m), (e, f)) in [("froxel, 1 frame", single), ("froxel, frame 16", seq)]
-            .into_iter()
-            .zip(measured(name))
-        {
-            println!(
-                "| {name} | {label} | {:.2} % | {:.3} | {ms:.1} |",
-                m.error * 100.0,
-                m.flip,
-            );
-            let be = (e + 0.02).min(0.15);
-            if !(m.error <= be && m.flip <= f + 0.03) {
-                failures.push(format!(
-                    "{name} {label}: error {:.4} (≤ {be}), FLIP {:.3} (≤ {f} + 0.03)",
-                    m.error, m.flip
-                ));
-            }
-        }
-    }
-    assert!(failures.is_empty(), "{failures:#?}");
 }
 
 /// "Simulate only what the scene calls for": the screen-space methods do

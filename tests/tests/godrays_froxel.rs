@@ -1,4 +1,6 @@
-//! `froxel`'s temporal reprojection (issue 15): a static view of the sun
+//! `froxel` (issue 15): against the Mitsuba references of the light-shaft
+//! cases (`froxel_against_mitsuba`; `godrays_mitsuba` has the other
+//! methods), and its temporal reprojection: a static view of the sun
 //! room (`tools/godrays_cases.json`, every surface black) over 24 frames
 //! on one renderer, the Sun moving one minute of time (≈ 0.2°) per frame.
 //! The fog's added radiance A_n (the frame with the godrays pass minus
@@ -23,48 +25,25 @@
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{
-    Effect, FogSpec, GodraysMethod, GodraysSettings, RenderOutput, Scene, SkyRenderer, SkyState,
-};
+use himmel_skymodel::{GodraysMethod, GodraysSettings, RenderOutput, Scene, SkyRenderer, SkyState};
 use serde_json::Value;
 use world_common::metrics::{luminance, mask_channel, read_exr, GEOMETRY};
+use world_common::shafts::{black_world, case_scene, cases, measure_output, root};
 
 const FRAMES: usize = 24;
 
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn sun_room() -> Value {
-    let cases: Value = serde_json::from_str(
-        &std::fs::read_to_string(root().join("tools/godrays_cases.json")).unwrap(),
-    )
-    .unwrap();
-    cases["cases"][0].clone()
-}
-
 /// Frame n: the case's scene at 11:30 + n minutes (UTC), with `godrays`.
 fn frame_scene(c: &Value, n: usize, godrays: Option<GodraysSettings>) -> Scene {
-    let mut s = world_common::cases::case_scene(c);
+    let mut s = case_scene(c, godrays);
     s.time.utc = format!("2024-12-21T11:{:02}:00Z", 30 + n);
-    let fog: FogSpec = serde_json::from_value(c["fog"].clone()).unwrap();
-    s.fog = Some(fog);
-    if let Some(g) = godrays {
-        s.effects.push(Effect::Godrays);
-        s.lighting.godrays = g;
-    }
-    s.validate().unwrap();
     s
 }
 
-fn black_world(c: &Value) -> himmel_world::World {
-    let mut w = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
-    for m in &mut w.materials {
-        m.base_color = [0.0, 0.0, 0.0, 1.0];
-        m.base_color_texture = None;
-        m.emissive = [0.0; 3];
-    }
-    w
+fn render(s: &Scene, world: &himmel_world::World) -> RenderOutput {
+    let state = SkyState::at(s).unwrap();
+    let mut r = wgpu_common::gpu();
+    r.set_world(world);
+    r.render(s, &state).unwrap()
 }
 
 /// The luminance of `on` − `off` per pixel of the mask.
@@ -119,7 +98,7 @@ fn worst_change(frames: &[Vec<f64>]) -> f64 {
 
 #[test]
 fn froxel_shafts_hold_still_under_a_slowly_moving_sun() {
-    let c = sun_room();
+    let c = cases()["cases"][0].clone();
     let world = black_world(&c);
     let name = c["name"].as_str().unwrap();
     let mask = mask_channel(
@@ -184,4 +163,82 @@ fn froxel_shafts_hold_still_under_a_slowly_moving_sun() {
         mw < 0.5 * mwo,
         "the history steadies nothing: {mw} vs {mwo}"
     );
+}
+
+/// `froxel` (issue 15's goal: ≤ 15 % mean relative error) at its default
+/// quality (2 × 2-pixel froxels, 32 slices, 4 samples of the Sun per
+/// froxel, 8 sky cells, `temporal` 0.9): one frame with no history (a new
+/// world starts it afresh)
+/// and the 16th frame of a static sequence on one renderer (the history
+/// averaging the jittered slices). Bounded at what this version measures
+/// (lavapipe) plus a margin.
+#[test]
+fn froxel_against_mitsuba() {
+    let cases = cases();
+    // `HIMMEL_GODRAYS='{"method": "froxel", "sky_cells": 64}'` measures
+    // other settings, held to the default's bounds.
+    let q = std::env::var("HIMMEL_GODRAYS")
+        .ok()
+        .and_then(|j| serde_json::from_str::<GodraysSettings>(&j).ok())
+        .filter(|g| g.method == GodraysMethod::Froxel)
+        .unwrap_or(GodraysSettings {
+            method: GodraysMethod::Froxel,
+            ..GodraysSettings::default()
+        });
+    let measured = |name: &str| -> [(f64, f64); 2] {
+        match name {
+            "sun_room_fog" => [(0.1376, 0.235), (0.1353, 0.234)],
+            "atrium_fog" => [(0.0281, 0.055), (0.0262, 0.053)],
+            other => panic!("no bounds for case {other}"),
+        }
+    };
+    println!(
+        "| case | method, quality | mean relative error | FLIP | godrays ms (lavapipe, least of 16 frames) |"
+    );
+    println!("|---|---|---|---|---|");
+    let mut failures = Vec::new();
+    for c in cases["cases"].as_array().unwrap() {
+        let name = c["name"].as_str().unwrap();
+        let world = black_world(c);
+        let off = render(&case_scene(c, None), &world);
+        let s = case_scene(c, Some(q));
+        let single = measure_output(c, &render(&s, &world), &off);
+        let state = SkyState::at(&s).unwrap();
+        let mut r = wgpu_common::gpu();
+        r.set_world(&world);
+        let mut last = None;
+        let mut ms = f64::INFINITY;
+        for _ in 0..16 {
+            let out = r.render(&s, &state).unwrap();
+            let p = out.passes.iter().find(|p| p.name == "godrays").unwrap();
+            ms = ms.min(p.ms.unwrap_or(f64::NAN));
+            last = Some(out);
+        }
+        drop(r);
+        let seq = measure_output(c, last.as_ref().unwrap(), &off);
+        if seq.error >= single.error {
+            failures.push(format!(
+                "{name}: the history does not converge: {} after 16 frames, {} after 1",
+                seq.error, single.error
+            ));
+        }
+        for ((label, m), (e, f)) in [("froxel, 1 frame", single), ("froxel, frame 16", seq)]
+            .into_iter()
+            .zip(measured(name))
+        {
+            println!(
+                "| {name} | {label} | {:.2} % | {:.3} | {ms:.1} |",
+                m.error * 100.0,
+                m.flip,
+            );
+            let be = (e + 0.02).min(0.15);
+            if !(m.error <= be && m.flip <= f + 0.03) {
+                failures.push(format!(
+                    "{name} {label}: error {:.4} (≤ {be}), FLIP {:.3} (≤ {f} + 0.03)",
+                    m.error, m.flip
+                ));
+            }
+        }
+    }
+    assert!(failures.is_empty(), "{failures:#?}");
 }
