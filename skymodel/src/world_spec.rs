@@ -245,6 +245,16 @@ pub enum GodraysMethod {
     /// `samples` / 3 taps each, every pass blurring the previous one's
     /// output with a stride `samples` / 3 times longer.
     Sousa,
+    /// A frustum-aligned fog volume (Wronski 2014; Hillaire 2015): the
+    /// fog's in-scattering per metre computed per froxel (a grid of one
+    /// froxel per `resolution_divisor` × `resolution_divisor` pixels,
+    /// `steps` depth slices out to the frame's farthest surface,
+    /// quadratically spaced), each froxel's sample depth jittered per
+    /// frame and blended with the previous frame's volume at the
+    /// reprojected place (`temporal`), then integrated front to back along
+    /// each column; a pixel takes the integral at its surface's distance
+    /// (`froxel.wgsl`).
+    Froxel,
 }
 
 impl GodraysMethod {
@@ -262,12 +272,14 @@ impl GodraysMethod {
 pub struct GodraysSettings {
     /// The method (default `toth`).
     pub method: GodraysMethod,
-    /// March steps per view ray, in [1, 512] (default 32).
+    /// March steps per view ray, in [1, 512] (default 32); `froxel`: the
+    /// volume's depth slices.
     pub steps: u32,
     /// Interleaving: N × N start offsets of the march, one per pixel of
     /// each N × N block of the marched image, averaged over the block where
     /// the depth is continuous (an N²-fold finer march), in [1, 8]
-    /// (default 4).
+    /// (default 4); `froxel`: the Sun's and Moon's samples per froxel and
+    /// frame, stratified over its slice.
     pub interleave: u32,
     /// The march runs on an image this many times smaller on each side,
     /// upsampled by depth (bilateral), in [1, 8] (default 2).
@@ -276,13 +288,21 @@ pub struct GodraysSettings {
     /// step for the sky's in-scattering, each in its visibility map, in
     /// [0, 64] (default 8; 0 = no sky light in the fog). A step looks up
     /// every k-th cell, the next step the next ones, so that the march
-    /// sweeps them all (`toth` only: the screen-space methods leave the
-    /// sky's light in the fog out).
+    /// sweeps them all (`toth`; `froxel` the same per froxel along each
+    /// column; the screen-space methods leave the sky's light in the fog
+    /// out).
     pub sky_cells: u32,
     /// Radial-blur taps per pixel in total (`mitchell`, `sousa`: three
     /// passes of `samples` / 3), in [3, 256] (default 64). The screen-space
-    /// methods run at 1 / `resolution_divisor` of the frame too.
+    /// methods run at 1 / `resolution_divisor` of the frame too; `froxel`'s
+    /// grid has one froxel per `resolution_divisor` × `resolution_divisor`
+    /// pixels.
     pub samples: u32,
+    /// `froxel`: the previous frame's share of each froxel's in-scattering
+    /// where its reprojected position lies in the previous volume (an
+    /// exponential moving average over the frames of a sequence; 0 = no
+    /// history), in [0, 0.98] (default 0.9).
+    pub temporal: f64,
 }
 
 impl Default for GodraysSettings {
@@ -294,6 +314,7 @@ impl Default for GodraysSettings {
             resolution_divisor: 2,
             sky_cells: 8,
             samples: 64,
+            temporal: 0.9,
         }
     }
 }
@@ -359,6 +380,7 @@ impl LightingSpec {
             ),
             ("lighting.godrays.sky_cells", g.sky_cells as f64, 0.0, 64.0),
             ("lighting.godrays.samples", g.samples as f64, 3.0, 256.0),
+            ("lighting.godrays.temporal", g.temporal, 0.0, 0.98),
         ] {
             range(f, v, lo, hi)?;
         }
@@ -434,9 +456,17 @@ mod tests {
             serde_json::from_str(r#"{"method": "sousa", "samples": 24}"#).unwrap();
         assert!(g.method.screen_space() && g.samples == 24);
         assert!(!GodraysMethod::Toth.screen_space());
+        let g: GodraysSettings =
+            serde_json::from_str(r#"{"method": "froxel", "temporal": 0.5}"#).unwrap();
+        assert!(g.method == GodraysMethod::Froxel && !g.method.screen_space());
+        let mut l = LightingSpec::default();
+        l.godrays.temporal = 0.99;
+        let e = l.validate().unwrap_err();
+        assert_eq!(e.field, "lighting.godrays.temporal");
         // `scene-template --world` shows the key with its default.
         let t = serde_json::to_value(LightingSpec::default()).unwrap();
         assert_eq!(t["godrays"]["samples"], 64);
+        assert_eq!(t["godrays"]["temporal"], 0.9);
         let mut l = LightingSpec::default();
         l.godrays.samples = 2;
         assert_eq!(l.validate().unwrap_err().field, "lighting.godrays.samples");

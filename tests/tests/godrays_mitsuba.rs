@@ -22,71 +22,22 @@
 //! full-resolution 128-step march. `HIMMEL_GODRAYS='{"steps": 16}'` measures
 //! other settings (the `lighting.godrays` object) instead of both.
 //! `screen_space_shafts_against_mitsuba` prints the `mitchell` and `sousa`
-//! rows, `sousa_against_mitchell_at_equal_taps` their time ratio.
+//! rows, `sousa_against_mitchell_at_equal_taps` their time ratio;
+//! `godrays_froxel` the `froxel` rows (its own binary: its frames do not
+//! run beside this one's timings).
 
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{
-    Effect, FogSpec, GodraysMethod, GodraysSettings, PassStat, RenderOutput, Scene, SkyRenderer,
-    SkyState,
-};
+use himmel_skymodel::{GodraysMethod, GodraysSettings, RenderOutput, Scene, SkyRenderer, SkyState};
 use serde_json::Value;
-use world_common::metrics::GEOMETRY;
-use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage};
-
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn case_scene(c: &Value, godrays: Option<GodraysSettings>) -> Scene {
-    let mut s = world_common::cases::case_scene(c);
-    let fog: FogSpec = serde_json::from_value(c["fog"].clone()).expect("a case's `fog`");
-    s.fog = Some(fog);
-    if let Some(g) = godrays {
-        s.effects.push(Effect::Godrays);
-        s.lighting.godrays = g;
-    }
-    s.validate().expect("a valid scene");
-    s
-}
+use world_common::shafts::{black_world, case_scene, measure_output, root, Measured};
 
 fn render(s: &Scene, world: &himmel_world::World) -> RenderOutput {
     let state = SkyState::at(s).unwrap();
     let mut r = wgpu_common::gpu();
     r.set_world(world);
     r.render(s, &state).unwrap()
-}
-
-/// The case's world with every surface black (as the reference's).
-fn black_world(c: &Value) -> himmel_world::World {
-    let mut w = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
-    for m in &mut w.materials {
-        m.base_color = [0.0, 0.0, 0.0, 1.0];
-        m.base_color_texture = None;
-        m.metallic = 0.0;
-        m.roughness = 1.0;
-        m.emissive = [0.0; 3];
-    }
-    w
-}
-
-fn masked(img: &RgbImage, mask: &[bool]) -> RgbImage {
-    RgbImage {
-        width: img.width,
-        height: img.height,
-        pixels: img
-            .pixels
-            .iter()
-            .zip(mask)
-            .map(|(p, m)| if *m { *p } else { [0.0; 3] })
-            .collect(),
-    }
-}
-
-struct Measured {
-    error: f64,
-    flip: f64,
 }
 
 /// The added radiance of `quality` against the reference.
@@ -96,43 +47,8 @@ fn measure(
     off: &RenderOutput,
     quality: GodraysSettings,
 ) -> Measured {
-    let name = c["name"].as_str().unwrap();
     let on = render(&case_scene(c, Some(quality)), world);
-    let stat: &PassStat = on.passes.iter().find(|p| p.name == "godrays").unwrap();
-    assert!(stat.ran, "{stat:?}");
-    let added = RgbImage {
-        width: on.image.width,
-        height: on.image.height,
-        pixels: on
-            .image
-            .pixels
-            .iter()
-            .zip(&off.image.pixels)
-            .map(|(a, b)| [0, 1, 2].map(|k| a[k] - b[k]))
-            .collect(),
-    };
-    if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
-        let p = std::path::Path::new(&d).join(format!("{name}_added.exr"));
-        let img = himmel_skymodel::HdrImage {
-            pixels: added.pixels.clone(),
-            ..on.image.clone()
-        };
-        himmel_cpu::output::write_exr(&p, &img).unwrap();
-    }
-    let dir = root().join("tests/fixtures/godrays_ref");
-    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
-    let mask = mask_channel(
-        &read_exr(dir.join(format!("{name}_mask.exr"))).unwrap(),
-        GEOMETRY,
-    );
-    Measured {
-        error: mean_relative_error(&added, &reference, &mask),
-        flip: flip(
-            &masked(&added, &mask),
-            &masked(&reference, &mask),
-            Some(&mask),
-        ),
-    }
+    measure_output(c, &on, off)
 }
 
 #[test]

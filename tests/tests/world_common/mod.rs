@@ -6,4 +6,5 @@
 
 pub mod cases;
 pub mod metrics;
+pub mod shafts;
 pub mod view;

@@ -14,7 +14,7 @@
 //! the cells in turn (every cell over the march), the pixel's interleaved
 //! set as the sky pass's.
 
-use himmel_skymodel::{FogSpec, GodraysSettings, RenderError};
+use himmel_skymodel::{FogSpec, GodraysMethod, GodraysSettings, RenderError};
 
 use super::pipelines::Pipelines;
 use super::resources::texture;
@@ -62,14 +62,19 @@ pub fn uniforms(
         [f.scattering_per_m as f32, kind as f32, g as f32, 1.0],
         [
             settings.steps.max(1),
-            // The screen-space methods have no interleaved offsets: their
-            // image is gathered bilinearly (shade.wgsl).
-            if settings.method.screen_space() {
+            // The screen-space methods and `froxel` have no interleaved
+            // offsets: their image is gathered bilinearly (shade.wgsl);
+            // `froxel`'s is at full resolution.
+            if settings.method == GodraysMethod::Toth {
+                settings.interleave.max(1)
+            } else {
+                1
+            },
+            if settings.method == GodraysMethod::Froxel {
                 1
             } else {
-                settings.interleave.max(1)
+                settings.resolution_divisor.max(1)
             },
-            settings.resolution_divisor.max(1),
             settings.sky_cells,
         ],
     )
@@ -183,5 +188,13 @@ mod tests {
         );
         let (a, _) = uniforms(Some(&f), &s, false);
         assert_eq!(a[3], 0.0);
+        // `froxel` writes a full-resolution image: no interleave, no
+        // divisor in the gather.
+        let s = GodraysSettings {
+            method: GodraysMethod::Froxel,
+            ..s
+        };
+        let (_, c) = uniforms(Some(&f), &s, true);
+        assert_eq!(c, [s.steps, 1, 1, s.sky_cells]);
     }
 }

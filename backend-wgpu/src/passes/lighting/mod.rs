@@ -17,8 +17,9 @@
 //!    specular), emission, fog and aerial perspective, written into the
 //!    target where the G-buffer has a surface; before it, when `godrays`
 //!    runs, the fog's in-scattering marched along the view rays
-//!    ([`godrays`], `godrays.wgsl`) or blurred in screen space
-//!    ([`radial`], `radial.wgsl`), which it adds.
+//!    ([`godrays`], `godrays.wgsl`), blurred in screen space
+//!    ([`radial`], `radial.wgsl`) or integrated through a frustum-aligned
+//!    volume ([`froxel`], `froxel.wgsl`), which it adds.
 //!
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
@@ -26,6 +27,7 @@
 pub mod ao;
 pub mod cloud_shadow;
 pub mod env;
+pub mod froxel;
 pub mod godrays;
 pub mod mesh;
 pub mod pipelines;
@@ -129,6 +131,7 @@ pub struct LightingPasses {
     clouds: cloud_shadow::CloudShadows,
     ao: ao::Occlusion,
     radial: radial::Radial,
+    froxel: froxel::Froxels,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -465,15 +468,17 @@ impl LightingPasses {
                 cell_view: self.maps.cell_matrices().ok_or_else(missing)?,
                 visibility: self.maps.visibility_view().ok_or_else(missing)?,
             };
+            let key = froxel::Key {
+                world: world.identity,
+                fog: [u.shafts[0], u.fog[0], u.fog[1]],
+            };
             let q = &inputs.scene.lighting.godrays;
-            let frame = (cam.width, cam.height);
-            if q.method.screen_space() {
-                self.radial
-                    .run_on(gpu, pipes, &march, q, frame, &mut self.shafts)?;
-            } else {
-                self.shafts
-                    .march(gpu, pipes, &march, frame, q.resolution_divisor)?;
-            }
+            let passes = ShaftPasses {
+                radial: &mut self.radial,
+                froxel: &mut self.froxel,
+                shafts: &mut self.shafts,
+            };
+            passes.run(gpu, pipes, &march, q, (cam, key))?;
             Some(stat("godrays", true, Some(ms(tg)), None))
         } else {
             None
@@ -520,17 +525,7 @@ impl LightingPasses {
             &pipes.sky_out_layout,
             &[tv(&gb.sky[0]), tv(&gb.sky[1])],
         );
-        let sky_in = sky_in_group(
-            gpu,
-            pipes,
-            [
-                (2, &gb.sky[0]),
-                (3, &gb.sky[1]),
-                (4, shafts_view),
-                (5, ao_view),
-                (8, cloud_map),
-            ],
-        );
+        let sky_in = sky_in_group(gpu, pipes, gb, [shafts_view, cloud_map, ao_view]);
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let groups = (cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
         if inputs.env.is_some() {
@@ -557,26 +552,73 @@ impl LightingPasses {
     }
 }
 
-/// Group 1 of the lighting pass: the sky pass's outputs (bindings 2, 3),
-/// the light shafts (4), the ambient occlusion (5) and the cloud-shadow
-/// map (8).
+/// Group 1 of the lighting pass: the sky pass's outputs, the shafts'
+/// image, the clouds' shadow map and the AO image.
 fn sky_in_group(
     gpu: &Gpu,
     pipes: &Pipelines,
-    views: [(u32, &wgpu::TextureView); 5],
+    gb: &GBuffer,
+    [shafts_view, cloud_map, ao_view]: [&wgpu::TextureView; 3],
 ) -> wgpu::BindGroup {
-    let entries: Vec<wgpu::BindGroupEntry> = views
-        .iter()
-        .map(|&(binding, v)| wgpu::BindGroupEntry {
-            binding,
-            resource: wgpu::BindingResource::TextureView(v),
-        })
-        .collect();
+    let tv = wgpu::BindingResource::TextureView;
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("sky in"),
         layout: &pipes.sky_in_layout,
-        entries: &entries,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: tv(&gb.sky[0]),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: tv(&gb.sky[1]),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
+                resource: tv(shafts_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 8,
+                resource: tv(cloud_map),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: tv(ao_view),
+            },
+        ],
     })
+}
+
+/// The light shafts' passes of the three kinds and the image they write.
+struct ShaftPasses<'a> {
+    radial: &'a mut radial::Radial,
+    froxel: &'a mut froxel::Froxels,
+    shafts: &'a mut godrays::Shafts,
+}
+
+impl ShaftPasses<'_> {
+    /// Runs `q`'s method into the shafts' image.
+    fn run(
+        self,
+        gpu: &Gpu,
+        pipes: &Pipelines,
+        march: &godrays::MarchInputs,
+        q: &himmel_skymodel::GodraysSettings,
+        (cam, key): (&WorldCamera, froxel::Key),
+    ) -> Result<(), RenderError> {
+        let frame = (cam.width, cam.height);
+        match q.method {
+            m if m.screen_space() => self.radial.run_on(gpu, pipes, march, q, frame, self.shafts),
+            himmel_skymodel::GodraysMethod::Froxel => {
+                let c = &pipes.compare;
+                self.froxel
+                    .run_on(gpu, march, c, q, (cam, key), self.shafts)
+            }
+            _ => self
+                .shafts
+                .march(gpu, pipes, march, frame, q.resolution_divisor),
+        }
+    }
 }
 
 /// The lighting uniforms of this frame.

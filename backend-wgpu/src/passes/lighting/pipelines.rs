@@ -249,6 +249,7 @@ fn godrays_pipeline(gpu: &Gpu) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout)
         concat!(
             include_str!("../../shaders/lighting/common.wgsl"),
             include_str!("../../shaders/lighting/shafts.wgsl"),
+            include_str!("../../shaders/lighting/shafts_sky.wgsl"),
             include_str!("../../shaders/lighting/godrays.wgsl")
         ),
     );

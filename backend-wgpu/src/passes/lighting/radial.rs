@@ -41,11 +41,11 @@ pub struct BlurPass {
 
 /// The blur passes of `settings`' method: `mitchell` one of `samples`
 /// taps; `sousa` three of n = `samples` / 3 taps with strides 1, n, n²
-/// over n³ steps. Empty for `toth`.
+/// over n³ steps. Empty for `toth` and `froxel`.
 pub fn blur_passes(settings: &GodraysSettings) -> Vec<BlurPass> {
     let s = settings.samples.max(1);
     match settings.method {
-        GodraysMethod::Toth => Vec::new(),
+        GodraysMethod::Toth | GodraysMethod::Froxel => Vec::new(),
         GodraysMethod::Mitchell => vec![BlurPass {
             taps: s,
             stride: 1,

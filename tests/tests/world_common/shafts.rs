@@ -1,0 +1,110 @@
+//! What the light-shaft reference tests share (`godrays_mitsuba`,
+//! `godrays_froxel`): the cases of `tools/godrays_cases.json` as scenes,
+//! their worlds with every surface black, and the fog's added radiance
+//! measured against the references of `tests/fixtures/godrays_ref/`.
+
+use himmel_skymodel::{Effect, FogSpec, GodraysSettings, PassStat, RenderOutput, Scene};
+use serde_json::Value;
+
+use super::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage, GEOMETRY};
+
+/// The cases of `tools/godrays_cases.json`.
+pub fn cases() -> Value {
+    serde_json::from_str(&std::fs::read_to_string(root().join("tools/godrays_cases.json")).unwrap())
+        .unwrap()
+}
+
+/// The workspace's root.
+pub fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The case's scene with its fog, and `godrays` when given.
+pub fn case_scene(c: &Value, godrays: Option<GodraysSettings>) -> Scene {
+    let mut s = super::cases::case_scene(c);
+    let fog: FogSpec = serde_json::from_value(c["fog"].clone()).expect("a case's `fog`");
+    s.fog = Some(fog);
+    if let Some(g) = godrays {
+        s.effects.push(Effect::Godrays);
+        s.lighting.godrays = g;
+    }
+    s.validate().expect("a valid scene");
+    s
+}
+
+/// The case's world with every surface black (as the reference's).
+pub fn black_world(c: &Value) -> himmel_world::World {
+    let mut w = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
+    for m in &mut w.materials {
+        m.base_color = [0.0, 0.0, 0.0, 1.0];
+        m.base_color_texture = None;
+        m.metallic = 0.0;
+        m.roughness = 1.0;
+        m.emissive = [0.0; 3];
+    }
+    w
+}
+
+fn masked(img: &RgbImage, mask: &[bool]) -> RgbImage {
+    RgbImage {
+        width: img.width,
+        height: img.height,
+        pixels: img
+            .pixels
+            .iter()
+            .zip(mask)
+            .map(|(p, m)| if *m { *p } else { [0.0; 3] })
+            .collect(),
+    }
+}
+
+/// A render's added radiance against the reference.
+pub struct Measured {
+    /// Luminance-weighted mean relative error.
+    pub error: f64,
+    /// FLIP of the masked tone-mapped images.
+    pub flip: f64,
+    /// The godrays pass's time, ms.
+    pub ms: f64,
+}
+
+/// The added radiance of the render `on` against the reference.
+pub fn measure_output(c: &Value, on: &RenderOutput, off: &RenderOutput) -> Measured {
+    let name = c["name"].as_str().unwrap();
+    let stat: &PassStat = on.passes.iter().find(|p| p.name == "godrays").unwrap();
+    assert!(stat.ran, "{stat:?}");
+    let added = RgbImage {
+        width: on.image.width,
+        height: on.image.height,
+        pixels: on
+            .image
+            .pixels
+            .iter()
+            .zip(&off.image.pixels)
+            .map(|(a, b)| [0, 1, 2].map(|k| a[k] - b[k]))
+            .collect(),
+    };
+    if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
+        let p = std::path::Path::new(&d).join(format!("{name}_added.exr"));
+        let img = himmel_skymodel::HdrImage {
+            pixels: added.pixels.clone(),
+            ..on.image.clone()
+        };
+        himmel_cpu::output::write_exr(&p, &img).unwrap();
+    }
+    let dir = root().join("tests/fixtures/godrays_ref");
+    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
+    let mask = mask_channel(
+        &read_exr(dir.join(format!("{name}_mask.exr"))).unwrap(),
+        GEOMETRY,
+    );
+    Measured {
+        error: mean_relative_error(&added, &reference, &mask),
+        flip: flip(
+            &masked(&added, &mask),
+            &masked(&reference, &mask),
+            Some(&mask),
+        ),
+        ms: stat.ms.unwrap_or(f64::NAN),
+    }
+}
