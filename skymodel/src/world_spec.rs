@@ -294,7 +294,8 @@ pub struct GodraysSettings {
     pub sky_cells: u32,
     /// Radial-blur taps per pixel in total (`mitchell`, `sousa`: three
     /// passes of `samples` / 3), in [3, 256] (default 64). The screen-space
-    /// methods run at 1 / `resolution_divisor` of the frame too; `froxel`'s
+    /// methods run at 1 / `resolution_divisor` of the frame too (`sousa`
+    /// at half of that on each side, as its passes ran in Crysis); `froxel`'s
     /// grid has one froxel per `resolution_divisor` × `resolution_divisor`
     /// pixels.
     pub samples: u32,

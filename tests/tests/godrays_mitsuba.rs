@@ -29,7 +29,9 @@
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{GodraysMethod, GodraysSettings, RenderOutput, Scene, SkyRenderer, SkyState};
+use himmel_skymodel::{
+    Effect, GodraysMethod, GodraysSettings, RenderOutput, Scene, SkyRenderer, SkyState,
+};
 use serde_json::Value;
 use world_common::shafts::{black_world, case_scene, measure_output, root, Measured};
 
@@ -137,7 +139,8 @@ fn light_shafts_against_mitsuba() {
 
 /// The screen-space methods' qualities: `mitchell` and `sousa` at 63 taps
 /// in total (`sousa`: 3 × 21), on the half-resolution image (the default
-/// divisor) and at full resolution.
+/// divisor) and at full resolution (`sousa` blurs at half of each:
+/// `image_divisor`).
 fn screen_qualities() -> Vec<(&'static str, GodraysSettings)> {
     let q = |method, resolution_divisor| GodraysSettings {
         method,
@@ -148,8 +151,14 @@ fn screen_qualities() -> Vec<(&'static str, GodraysSettings)> {
     vec![
         ("mitchell, 63 taps, ½ res", q(GodraysMethod::Mitchell, 2)),
         ("mitchell, 63 taps, full res", q(GodraysMethod::Mitchell, 1)),
-        ("sousa, 3 × 21 taps, ½ res", q(GodraysMethod::Sousa, 2)),
-        ("sousa, 3 × 21 taps, full res", q(GodraysMethod::Sousa, 1)),
+        (
+            "sousa, 3 × 21 taps, ½ res (blurred at ¼)",
+            q(GodraysMethod::Sousa, 2),
+        ),
+        (
+            "sousa, 3 × 21 taps, full res (blurred at ½)",
+            q(GodraysMethod::Sousa, 1),
+        ),
     ]
 }
 
@@ -173,14 +182,14 @@ fn screen_space_shafts_against_mitsuba() {
             "sun_room_fog" => [
                 (0.535, 0.643),
                 (0.495, 0.630),
+                (0.458, 0.618),
                 (0.530, 0.641),
-                (0.480, 0.624),
             ],
             "atrium_fog" => [
                 (0.812, 0.668),
                 (0.783, 0.633),
+                (0.804, 0.657),
                 (0.830, 0.678),
-                (0.806, 0.647),
             ],
             other => panic!("no bounds for case {other}"),
         }
@@ -230,14 +239,15 @@ fn least_ms(s: &Scene, world: &himmel_world::World, frames: usize) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Issue 15: `sousa`'s time against `mitchell`'s at equal total taps (63),
-/// at full resolution in the sun room (160 × 90), from `--stats`' godrays
-/// ms (the least of 6 frames each, alternating, on one renderer). The
-/// issue asks for ≤ 0.6×; lavapipe does not show it: at equal taps per
-/// pixel `sousa` runs two passes more, each with its own per-texel set-up,
-/// and measures 1.2–1.7× `mitchell` here (2.1× at 640 × 360). The bound
-/// is that figure with a margin (see the README), so that a regression in
-/// either shows; it is not the issue's goal.
+/// Issue 15: `sousa`'s time against `mitchell`'s at equal total taps (63
+/// per texel; `sousa` 3 × 21) and equal requested quality (full
+/// resolution), from `--stats`' godrays ms (the least of 8 frames each,
+/// alternating, after a first; a renderer each), in the sun room at 640 × 360 (its
+/// case's camera × 4, so that the passes' work rather than lavapipe's
+/// per-dispatch overhead is timed). `sousa` blurs a quarter-resolution
+/// image (`image_divisor`), as in Crysis; at equal texels it measured
+/// 1.2–2.1× `mitchell` (two passes more, each with its own set-up per
+/// texel). The issue's goal: ≤ 0.6×.
 #[test]
 fn sousa_against_mitchell_at_equal_taps() {
     let cases: Value = serde_json::from_str(
@@ -249,14 +259,43 @@ fn sousa_against_mitchell_at_equal_taps() {
     let [_, (_, mitchell), _, (_, sousa)] = screen_qualities()[..] else {
         panic!("four qualities")
     };
-    let (mut tm, mut ts) = (f64::INFINITY, f64::INFINITY);
-    for _ in 0..3 {
-        tm = tm.min(least_ms(&case_scene(c, Some(mitchell)), &world, 2));
-        ts = ts.min(least_ms(&case_scene(c, Some(sousa)), &world, 2));
+    let scene = |q| {
+        let mut s = case_scene(c, Some(q));
+        s.camera.width *= 4;
+        s.camera.height *= 4;
+        // Only what the screen-space shafts need (the Sun, its shadow
+        // maps): the sky passes and the sky light would dominate the
+        // frames' time on lavapipe.
+        s.effects = vec![Effect::Sun, Effect::World, Effect::Shadows, Effect::Godrays];
+        s
+    };
+    let scenes = [scene(mitchell), scene(sousa)];
+    let state = SkyState::at(&scenes[0]).unwrap();
+    // The shared renderer's lock keeps the binary's other tests off the
+    // device meanwhile; a renderer of its own each keeps both methods'
+    // images allocated.
+    let _device = wgpu_common::gpu();
+    let own = || himmel_wgpu::WgpuRenderer::new(None).unwrap();
+    let mut renderers = [own(), own()];
+    let mut least = [f64::INFINITY; 2];
+    // A first frame each (pipelines, light maps), then 8 alternating.
+    for frame in 0..9 {
+        for ((r, s), t) in renderers.iter_mut().zip(&scenes).zip(&mut least) {
+            if frame == 0 {
+                r.set_world(&world);
+            }
+            let out = r.render(s, &state).unwrap();
+            let p = out.passes.iter().find(|p| p.name == "godrays").unwrap();
+            assert!(p.ran, "{p:?}");
+            if frame > 0 {
+                *t = t.min(p.ms.unwrap_or(f64::NAN));
+            }
+        }
     }
+    let [tm, ts] = least;
     let ratio = ts / tm;
     println!("sousa {ts:.2} ms, mitchell {tm:.2} ms: sousa / mitchell = {ratio:.2}");
-    assert!(ratio <= 2.5, "sousa {ts} ms vs mitchell {tm} ms");
+    assert!(ratio <= 0.6, "sousa {ts} ms vs mitchell {tm} ms");
 }
 
 /// "Simulate only what the scene calls for": the screen-space methods do

@@ -34,6 +34,20 @@ pub fn marched_size(w: u32, h: u32, divisor: u32) -> (u32, u32) {
     (w.div_ceil(d).max(1), h.div_ceil(d).max(1))
 }
 
+/// The divisor of the shafts' image for `settings`: the requested
+/// `resolution_divisor`, except that `sousa` works on half of it on each
+/// side (a quarter of the texels: the reduced target Sousa's three passes
+/// ran on in Crysis, which is where the method's saving over Mitchell's
+/// one long pass lies) and `froxel` writes a full-resolution image.
+pub fn image_divisor(settings: &GodraysSettings) -> u32 {
+    let d = settings.resolution_divisor.max(1);
+    match settings.method {
+        GodraysMethod::Froxel => 1,
+        GodraysMethod::Sousa => 2 * d,
+        GodraysMethod::Toth | GodraysMethod::Mitchell => d,
+    }
+}
+
 /// An rgba32float image the shafts' passes write and read.
 pub fn image(gpu: &Gpu, (w, h): (u32, u32)) -> wgpu::TextureView {
     texture(
@@ -70,11 +84,7 @@ pub fn uniforms(
             } else {
                 1
             },
-            if settings.method == GodraysMethod::Froxel {
-                1
-            } else {
-                settings.resolution_divisor.max(1)
-            },
+            image_divisor(settings),
             settings.sky_cells,
         ],
     )

@@ -2,7 +2,8 @@
 //! `sousa`, issue 15; `radial.wgsl` derives the terms):
 //!
 //! 1. **source** — per texel of an image `resolution_divisor` times smaller
-//!    on each side, the unoccluded fog column's in-scattering of the Sun
+//!    on each side (`sousa`: twice that, a quarter of the texels, the
+//!    reduced target of Sousa's passes in Crysis), the unoccluded fog column's in-scattering of the Sun
 //!    (the Moon by night), S = E σ_s p(θ) ∫ T_light T_view dt in closed
 //!    form, and the light's mask M: 1 on sky texels, else the light's
 //!    shadow-map visibility at the fog in front of the surface;
@@ -23,7 +24,7 @@
 use himmel_skymodel::{GodraysMethod, GodraysSettings, RenderError};
 use wgpu::util::DeviceExt;
 
-use super::godrays::{image, marched_size, MarchInputs, Shafts};
+use super::godrays::{image, image_divisor, marched_size, MarchInputs, Shafts};
 use super::pipelines::Pipelines;
 use crate::gpu::{bind_group, Gpu};
 
@@ -176,7 +177,7 @@ impl Radial {
             shadows: march.shadows,
             compare: &pipes.compare,
         };
-        let size = marched_size(frame.0, frame.1, settings.resolution_divisor);
+        let size = marched_size(frame.0, frame.1, image_divisor(settings));
         self.run(gpu, &inputs, settings, frame, shafts.output(gpu, size))
     }
 
@@ -197,7 +198,7 @@ impl Radial {
                 "the screen-space shafts run for mitchell and sousa only".into(),
             ));
         }
-        let size = marched_size(w, h, settings.resolution_divisor);
+        let size = marched_size(w, h, image_divisor(settings));
         if self.work.as_ref().map(|x| x.0) != Some(size) {
             self.work = Some((size, [image(gpu, size), image(gpu, size)]));
         }

@@ -69,22 +69,6 @@ fn slice_t(s: f32, d: f32) -> f32 {
     return d * f * f;
 }
 
-// The part of [a, b] along the ray from the eye inside the fog (y ≤ top).
-fn in_fog(a: f32, b: f32, ray: vec3<f32>) -> vec2<f32> {
-    let top = u.fog.y;
-    let y0 = u.eye.y;
-    var lo = a;
-    var hi = b;
-    if ray.y > 1e-6 {
-        hi = min(hi, (top - y0) / ray.y);
-    } else if ray.y < -1e-6 {
-        lo = max(lo, (top - y0) / ray.y);
-    } else if y0 > top {
-        hi = lo;
-    }
-    return vec2<f32>(lo, max(hi, lo));
-}
-
 fn far_m() -> f32 {
     return bitcast<f32>(atomicLoad(&extent[0]));
 }
@@ -129,7 +113,7 @@ fn inject(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ray = column_ray(gid.xy);
     let d = far_m();
     let k = f32(gid.z);
-    let seg = in_fog(slice_t(k, d), slice_t(k + 1.0, d), ray);
+    let seg = fog_interval(slice_t(k, d), slice_t(k + 1.0, d), ray);
     if seg.y <= seg.x {
         textureStore(dst, gid, vec4<f32>(0.0));
         return;
@@ -208,7 +192,7 @@ fn integrate(@builtin(global_invocation_id) gid: vec3<u32>) {
     var tr = 1.0;
     for (var k = 0u; k < fx.grid.z; k++) {
         let fk = f32(k);
-        let seg = in_fog(slice_t(fk, d), slice_t(fk + 1.0, d), ray);
+        let seg = fog_interval(slice_t(fk, d), slice_t(fk + 1.0, d), ray);
         let len = seg.y - seg.x;
         let s = textureLoad(src, vec3<u32>(gid.xy, k), 0).rgb;
         let w = weight(len, st);
@@ -235,8 +219,8 @@ fn column_at(c: vec2<i32>, dist: f32, d: f32) -> vec3<f32> {
     let here = textureLoad(src, vec3<i32>(cc, k), 0);
     let ray = column_ray(vec2<u32>(cc));
     let st = u.fog.x;
-    let full = in_fog(slice_t(f32(k), d), slice_t(f32(k) + 1.0, d), ray);
-    let part = in_fog(slice_t(f32(k), d), min(dist, slice_t(f32(k) + 1.0, d)), ray);
+    let full = fog_interval(slice_t(f32(k), d), slice_t(f32(k) + 1.0, d), ray);
+    let part = fog_interval(slice_t(f32(k), d), min(dist, slice_t(f32(k) + 1.0, d)), ray);
     let wf = weight(full.y - full.x, st);
     let wp = weight(part.y - part.x, st);
     if wf <= 0.0 {

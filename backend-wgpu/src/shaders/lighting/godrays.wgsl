@@ -55,16 +55,9 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ray = pixel_ray(px, w, h);
     let eye = u.eye.xyz;
     let top = u.fog.y;
-    // The part of the ray inside the fog (y ≤ top): one interval.
-    var t0 = 0.0;
-    var t1 = dist;
-    if ray.y > 1e-6 {
-        t1 = min(t1, (top - eye.y) / ray.y);
-    } else if ray.y < -1e-6 {
-        t0 = max(t0, (top - eye.y) / ray.y);
-    } else if eye.y > top {
-        t1 = 0.0;
-    }
+    let span = fog_interval(0.0, dist, ray);
+    let t0 = span.x;
+    let t1 = span.y;
     if t1 <= t0 {
         textureStore(shafts_out, q, vec4<f32>(0.0));
         return;

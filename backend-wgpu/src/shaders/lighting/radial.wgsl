@@ -95,15 +95,9 @@ fn ray_at(c: vec2<f32>) -> vec3<f32> {
 fn column(ray: vec3<f32>, dist: f32, l: vec3<f32>) -> vec4<f32> {
     let eye = u.eye.xyz;
     let top = u.fog.y;
-    var t0 = 0.0;
-    var t1 = dist;
-    if ray.y > 1e-6 {
-        t1 = min(t1, (top - eye.y) / ray.y);
-    } else if ray.y < -1e-6 {
-        t0 = max(t0, (top - eye.y) / ray.y);
-    } else if eye.y > top {
-        t1 = 0.0;
-    }
+    let span = fog_interval(0.0, dist, ray);
+    let t0 = span.x;
+    let t1 = span.y;
     let st = u.fog.x;
     let sh = max(l.y, 1e-4);
     let kappa = st * (1.0 - ray.y / sh);
@@ -191,16 +185,19 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
     let m = max(0.0, kl * f_max);
     var acc = 0.0;
     var wsum = 0.0;
+    // w_j = exp(κ (t1 − t0) f_j − m), by its constant ratio from tap to tap.
+    let ratio = exp(kl * stride / n_eff);
+    var wt = exp(-m);
     for (var j = 0u; j < taps; j++) {
-        let f = stride * f32(j) / n_eff;
-        let at = p + toward * f;
+        let w_j = wt;
+        wt *= ratio;
+        let at = p + toward * (stride * f32(j) / n_eff);
         if any(at < vec2<f32>(0.0)) || any(at >= frame) {
             continue;
         }
         let t = min(vec2<i32>(at / div), lsize - 1);
-        let wt = exp(kl * f - m);
-        acc += wt * textureLoad(radial_in, t, 0).a;
-        wsum += wt;
+        acc += w_j * textureLoad(radial_in, t, 0).a;
+        wsum += w_j;
     }
     let b = acc / max(wsum, 1e-30);
     if last {

@@ -1,5 +1,5 @@
 // What the light-shaft passes share (godrays.wgsl, radial.wgsl; after
-// common.wgsl): the fog's phase function and a directional light's
+// common.wgsl): the fog's phase function, its interval along a view ray and a directional light's
 // visibility from its cascaded shadow maps (bindings 3 and 4 in both).
 
 @group(0) @binding(3) var shadows: texture_depth_2d_array;
@@ -17,6 +17,23 @@ fn phase(c: f32) -> f32 {
     let g = u.shafts.z;
     let d = 1.0 + g * g - 2.0 * g * c;
     return (1.0 - g * g) / (4.0 * PI * d * sqrt(d));
+}
+
+// The part [lo, hi] of [a, b] along the view ray from the eye that lies in
+// the fog (y ≤ top): one interval, empty (hi = lo) when there is none.
+fn fog_interval(a: f32, b: f32, ray: vec3<f32>) -> vec2<f32> {
+    let top = u.fog.y;
+    let y0 = u.eye.y;
+    var lo = a;
+    var hi = b;
+    if ray.y > 1e-6 {
+        hi = min(hi, (top - y0) / ray.y);
+    } else if ray.y < -1e-6 {
+        lo = max(lo, (top - y0) / ray.y);
+    } else if y0 > top {
+        hi = lo;
+    }
+    return vec2<f32>(lo, max(hi, lo));
 }
 
 // Visibility of a directional light (cascades first..first+count) at a
