@@ -282,7 +282,9 @@ pub struct GodraysSettings {
     /// frame, stratified over its slice.
     pub interleave: u32,
     /// The march runs on an image this many times smaller on each side,
-    /// upsampled by depth (bilateral), in [1, 8] (default 2).
+    /// upsampled by depth (bilateral); pixels whose nearest texels show
+    /// another surface or the sky are marched themselves (`toth`), in
+    /// [1, 8] (default 2).
     pub resolution_divisor: u32,
     /// Sky cells (of the environment light's, `lighting.sky`) looked up per
     /// step for the sky's in-scattering, each in its visibility map, in

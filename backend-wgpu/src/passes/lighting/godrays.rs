@@ -7,6 +7,11 @@
 //! `resolution_divisor` times smaller on each side, the march's start
 //! offset interleaved over N × N texels; the lighting pass (`shade.wgsl`)
 //! gathers it back by depth and adds it after the view ray's extinction.
+//! On a reduced image a `refine` pass makes the full-resolution image
+//! first: each pixel takes that gather, except where the texels around it
+//! show the sky or another surface, where its own view ray is marched (the
+//! reduced image cannot say what that ray sees); the lighting pass then
+//! reads the refined image as it is.
 //! The sky's part comes from the environment light's cells above the
 //! horizon (each one's ∫L dΩ, the phase at its direction), each seen
 //! through its visibility map from the point in the fog and attenuated
@@ -25,6 +30,10 @@ use crate::gpu::{bind_group, Gpu};
 #[derive(Default)]
 pub struct Shafts {
     image: Option<((u32, u32), wgpu::TextureView)>,
+    refined: Option<((u32, u32), wgpu::TextureView)>,
+    /// Whether the last march refined its image (the lighting pass reads
+    /// `refined` then).
+    use_refined: bool,
     stand_in: Option<wgpu::TextureView>,
 }
 
@@ -73,7 +82,12 @@ pub fn uniforms(
     };
     let (kind, g) = f.phase.code();
     (
-        [f.scattering_per_m as f32, kind as f32, g as f32, 1.0],
+        [
+            f.scattering_per_m as f32,
+            kind as f32,
+            g as f32,
+            if refines(settings) { 2.0 } else { 1.0 },
+        ],
         [
             settings.steps.max(1),
             // The screen-space methods and `froxel` have no interleaved
@@ -88,6 +102,12 @@ pub fn uniforms(
             settings.sky_cells,
         ],
     )
+}
+
+/// Whether `toth`'s reduced image is refined to full resolution (its
+/// shafts' uniform w is then 2: the lighting pass reads it pixel by pixel).
+pub fn refines(settings: &GodraysSettings) -> bool {
+    settings.method == GodraysMethod::Toth && settings.resolution_divisor > 1
 }
 
 /// What the march reads.
@@ -120,32 +140,52 @@ impl Shafts {
         divisor: u32,
     ) -> Result<(), RenderError> {
         let size = marched_size(w, h, divisor);
-        let out = self.output(gpu, size);
-        let tv = wgpu::BindingResource::TextureView;
-        let group = bind_group(
-            &gpu.device,
-            "godrays",
-            &pipes.godrays_layout,
-            &[
-                inputs.uniforms.as_entire_binding(),
-                tv(inputs.distance),
-                tv(inputs.material),
-                tv(inputs.shadows),
-                wgpu::BindingResource::Sampler(&pipes.compare),
-                tv(out),
-                inputs.cells.as_entire_binding(),
-                inputs.cell_view.as_entire_binding(),
-                tv(inputs.visibility),
-            ],
-        );
+        let refine = divisor > 1;
+        if refine && self.refined.as_ref().map(|i| i.0) != Some((w, h)) {
+            self.refined = Some(((w, h), image(gpu, (w, h))));
+        }
+        self.output(gpu, size);
+        let stand_in = self
+            .stand_in
+            .get_or_insert_with(|| image(gpu, (1, 1)))
+            .clone();
+        let (Some((_, low)), refined) = (self.image.as_ref(), self.refined.as_ref()) else {
+            return Err(RenderError::Device("the shafts' image is missing".into()));
+        };
+        let group = |out: &wgpu::TextureView, input: &wgpu::TextureView| {
+            let tv = wgpu::BindingResource::TextureView;
+            bind_group(
+                &gpu.device,
+                "godrays",
+                &pipes.godrays_layout,
+                &[
+                    inputs.uniforms.as_entire_binding(),
+                    tv(inputs.distance),
+                    tv(inputs.material),
+                    tv(inputs.shadows),
+                    wgpu::BindingResource::Sampler(&pipes.compare),
+                    tv(out),
+                    inputs.cells.as_entire_binding(),
+                    inputs.cell_view.as_entire_binding(),
+                    tv(inputs.visibility),
+                    tv(input),
+                ],
+            )
+        };
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipes.godrays);
-            pass.set_bind_group(0, &group, &[]);
+            pass.set_pipeline(&pipes.godrays[0]);
+            pass.set_bind_group(0, &group(low, &stand_in), &[]);
             pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
+            if let Some((_, fine)) = refined.filter(|_| refine) {
+                pass.set_pipeline(&pipes.godrays[1]);
+                pass.set_bind_group(0, &group(fine, low), &[]);
+                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            }
         }
         gpu.queue.submit([enc.finish()]);
+        self.use_refined = refine;
         gpu.wait()
     }
 
@@ -155,6 +195,7 @@ impl Shafts {
         if self.image.as_ref().map(|i| i.0) != Some(size) {
             self.image = None;
         }
+        self.use_refined = false;
         &self.image.get_or_insert_with(|| (size, image(gpu, size))).1
     }
 
@@ -162,7 +203,12 @@ impl Shafts {
     /// stand-in the lighting pass binds and does not read.
     pub fn view(&mut self, gpu: &Gpu, on: bool) -> &wgpu::TextureView {
         if on {
-            if let Some((_, v)) = self.image.as_ref() {
+            let last = if self.use_refined {
+                self.refined.as_ref()
+            } else {
+                self.image.as_ref()
+            };
+            if let Some((_, v)) = last {
                 return v;
             }
         }
@@ -191,7 +237,13 @@ mod tests {
         };
         let s = GodraysSettings::default();
         let (a, c) = uniforms(Some(&f), &s, true);
-        assert_eq!(a, [0.05, 2.0, 0.4, 1.0]);
+        // The default `toth` (÷2) is refined: w = 2.
+        assert_eq!(a, [0.05, 2.0, 0.4, 2.0]);
+        let full = GodraysSettings {
+            resolution_divisor: 1,
+            ..s
+        };
+        assert_eq!(uniforms(Some(&f), &full, true).0[3], 1.0);
         assert_eq!(
             c,
             [s.steps, s.interleave, s.resolution_divisor, s.sky_cells]

@@ -51,10 +51,12 @@ pub struct Pipelines {
     pub sky_in_layout: wgpu::BindGroupLayout,
     /// Its group 0 (shade.wgsl's bindings 0–17).
     pub shade_layout: wgpu::BindGroupLayout,
-    /// The light shafts' march (godrays.wgsl).
-    pub godrays: wgpu::ComputePipeline,
+    /// The light shafts' march and its full-resolution refinement
+    /// (godrays.wgsl `march`, `refine`).
+    pub godrays: [wgpu::ComputePipeline; 2],
     /// Its group 0: uniforms, distance, material, shadow maps, comparison
-    /// sampler, output, sky cells, their matrices and visibility maps.
+    /// sampler, output, sky cells, their matrices and visibility maps, the
+    /// reduced image (`refine`).
     pub godrays_layout: wgpu::BindGroupLayout,
     /// Trilinear, repeating (base colour).
     pub repeat: wgpu::Sampler,
@@ -156,7 +158,8 @@ impl Pipelines {
             "shade.wgsl",
             concat!(
                 include_str!("../../shaders/lighting/common.wgsl"),
-                include_str!("../../shaders/lighting/shade.wgsl")
+                include_str!("../../shaders/lighting/shade.wgsl"),
+                include_str!("../../shaders/lighting/shafts_gather.wgsl")
             ),
         );
         let c = wgpu::ShaderStages::COMPUTE;
@@ -239,8 +242,8 @@ impl Pipelines {
 
 /// The light shafts' march (`godrays.wgsl`) and its group 0: uniforms,
 /// distance, material, shadow maps, comparison sampler, output, sky cells,
-/// their matrices and visibility maps.
-fn godrays_pipeline(gpu: &Gpu) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout) {
+/// their matrices and visibility maps, the reduced image (`refine`).
+fn godrays_pipeline(gpu: &Gpu) -> ([wgpu::ComputePipeline; 2], wgpu::BindGroupLayout) {
     let dev = &gpu.device;
     let c = wgpu::ShaderStages::COMPUTE;
     let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
@@ -250,7 +253,8 @@ fn godrays_pipeline(gpu: &Gpu) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout)
             include_str!("../../shaders/lighting/common.wgsl"),
             include_str!("../../shaders/lighting/shafts.wgsl"),
             include_str!("../../shaders/lighting/shafts_sky.wgsl"),
-            include_str!("../../shaders/lighting/godrays.wgsl")
+            include_str!("../../shaders/lighting/godrays.wgsl"),
+            include_str!("../../shaders/lighting/shafts_gather.wgsl")
         ),
     );
     let godrays_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -298,13 +302,14 @@ fn godrays_pipeline(gpu: &Gpu) -> (wgpu::ComputePipeline, wgpu::BindGroupLayout)
                     wgpu::TextureViewDimension::D2Array,
                 ),
             ),
+            entry(9, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
         ],
     });
-    let godrays = gpu.compute_pipeline(
-        &gpu.pipeline_layout("godrays", &[&godrays_layout]),
-        &rmod,
-        "march",
-    );
+    let pl = gpu.pipeline_layout("godrays", &[&godrays_layout]);
+    let godrays = [
+        gpu.compute_pipeline(&pl, &rmod, "march"),
+        gpu.compute_pipeline(&pl, &rmod, "refine"),
+    ];
     (godrays, godrays_layout)
 }
 

@@ -27,30 +27,24 @@
 //   ((x mod N) + N (y mod N) + ½) / N² of a step; shade.wgsl averages the
 //   N × N block.
 // The march runs on an image 1 / shaft_q.z of the frame's size, each texel
-// for the frame pixel at its block's centre. Sky pixels are not marched
-// (the sky's own fog is left out, as its extinction is).
+// for the frame pixel at its block's centre; on a reduced image `refine`
+// then makes the full-resolution one the lighting pass reads. Sky pixels
+// are not marched (the sky's own fog is left out, as its extinction is).
 // common.wgsl (the uniforms, the view ray), shafts.wgsl (the phase, the
-// lights' visibility) and shafts_sky.wgsl (the sky's cells) are prepended.
+// lights' visibility) and shafts_sky.wgsl (the sky's cells) are prepended,
+// shafts_gather.wgsl (the depth-aware gather, for `refine`) appended.
 
 @group(0) @binding(1) var g_distance: texture_2d<f32>;
 @group(0) @binding(2) var g_material: texture_2d<u32>;
 @group(0) @binding(5) var shafts_out: texture_storage_2d<rgba32float, write>;
-@compute @workgroup_size(8, 8)
-fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
+// The reduced image, for `refine` (a stand-in for `march`).
+@group(0) @binding(9) var shafts_in: texture_2d<f32>;
+// The march of frame pixel px's view ray in `steps` steps, with the start
+// offset jitter (a fraction of a step) and the sky cells' interleaved set
+// cell_set.
+fn march_pixel(px: vec2<i32>, jitter: f32, cell_set: u32, steps: u32) -> vec3<f32> {
     let w = u32(u.right.w);
     let h = u32(u.up.w);
-    let div = max(u.shaft_q.z, 1u);
-    let lw = (w + div - 1u) / div;
-    let lh = (h + div - 1u) / div;
-    if gid.x >= lw || gid.y >= lh {
-        return;
-    }
-    let q = vec2<i32>(gid.xy);
-    let px = min(q * i32(div) + i32(div / 2u), vec2<i32>(i32(w) - 1, i32(h) - 1));
-    if textureLoad(g_material, px, 0).x == 0u {
-        textureStore(shafts_out, q, vec4<f32>(0.0));
-        return;
-    }
     let dist = textureLoad(g_distance, px, 0).x;
     let ray = pixel_ray(px, w, h);
     let eye = u.eye.xyz;
@@ -59,12 +53,8 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     let t0 = span.x;
     let t1 = span.y;
     if t1 <= t0 {
-        textureStore(shafts_out, q, vec4<f32>(0.0));
-        return;
+        return vec3<f32>(0.0);
     }
-    let steps = max(u.shaft_q.x, 1u);
-    let n = max(u.shaft_q.y, 1u);
-    let jitter = (f32((gid.x % n) + (gid.y % n) * n) + 0.5) / f32(n * n);
     let dt = (t1 - t0) / f32(steps);
     let st = u.fog.x;
     // ∫_0^dt exp(−σ_t s) ds, and the transmittance across one step.
@@ -82,7 +72,6 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     let sky_per_step = u.shaft_q.w;
     let sky_on = u.flags.x == 1u && u.counts.x > 0u && sky_per_step > 0u;
     let side = max(u.flags.z, 1u);
-    let cell_set = (gid.x % side) + (gid.y % side) * side;
     let stride = clamp((u.counts.x + u.flags.w + sky_per_step - 1u) / max(sky_per_step, 1u), 1u, steps);
     var tv = seg;
     for (var i = 0u; i < steps; i++) {
@@ -112,6 +101,76 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
     if moon_on {
         l += u.moon_rgb.rgb * (ss * phase(dot(ray, u.moon_dir.xyz)) * moon_sum);
     }
-    l += ss * sky_sum;
-    textureStore(shafts_out, q, vec4<f32>(l, 0.0));
+    return l + ss * sky_sum;
+}
+
+// Texel (or pixel) q's start offset in the N × N pattern, a fraction of
+// a step, and its sky cells' set.
+fn interleaved(q: vec2<u32>) -> vec2<f32> {
+    let n = max(u.shaft_q.y, 1u);
+    let side = max(u.flags.z, 1u);
+    let jitter = (f32((q.x % n) + (q.y % n) * n) + 0.5) / f32(n * n);
+    return vec2<f32>(jitter, f32((q.x % side) + (q.y % side) * side));
+}
+
+@compute @workgroup_size(8, 8)
+fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let w = u32(u.right.w);
+    let h = u32(u.up.w);
+    let div = max(u.shaft_q.z, 1u);
+    let lw = (w + div - 1u) / div;
+    let lh = (h + div - 1u) / div;
+    if gid.x >= lw || gid.y >= lh {
+        return;
+    }
+    let q = vec2<i32>(gid.xy);
+    let px = min(q * i32(div) + i32(div / 2u), vec2<i32>(i32(w) - 1, i32(h) - 1));
+    if textureLoad(g_material, px, 0).x == 0u {
+        textureStore(shafts_out, q, vec4<f32>(0.0));
+        return;
+    }
+    let k = interleaved(gid.xy);
+    textureStore(shafts_out, q, vec4<f32>(march_pixel(px, k.x, u32(k.y), max(u.shaft_q.x, 1u)), 0.0));
+}
+
+// `refine` (reduced images only): the full-resolution image of the
+// shafts. A pixel takes the depth-aware gather of the reduced image
+// (shafts_gather.wgsl) unless one of the 2 × 2 texels nearest to it shows
+// the sky or another surface (its distance off the pixel's by more than
+// REFINE_DEPTH of it, plus 2 cm) — where the reduced image cannot say what
+// the pixel's own ray sees. There the pixel's view ray is marched itself,
+// in twice the steps (one start offset instead of the gather's N²), so
+// that the edges stay sharp.
+const REFINE_DEPTH: f32 = 0.06;
+
+@compute @workgroup_size(8, 8)
+fn refine(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let w = u32(u.right.w);
+    let h = u32(u.up.w);
+    if gid.x >= w || gid.y >= h {
+        return;
+    }
+    let px = vec2<i32>(gid.xy);
+    if textureLoad(g_material, px, 0).x == 0u {
+        textureStore(shafts_out, px, vec4<f32>(0.0));
+        return;
+    }
+    let dist = textureLoad(g_distance, px, 0).x;
+    let div = i32(max(u.shaft_q.z, 1u));
+    let lsize = vec2<i32>(textureDimensions(shafts_in));
+    let base = vec2<i32>(floor((vec2<f32>(px) + 0.5) / f32(div) - 0.5));
+    var edge = false;
+    for (var k = 0; k < 4; k++) {
+        let q = clamp(base + vec2<i32>(k % 2, k / 2), vec2<i32>(0), lsize - 1);
+        let rp = min(q * div + div / 2, vec2<i32>(i32(w) - 1, i32(h) - 1));
+        edge = edge || textureLoad(g_material, rp, 0).x == 0u
+            || abs(textureLoad(g_distance, rp, 0).x - dist) > REFINE_DEPTH * dist + 0.02;
+    }
+    if edge {
+        let k = interleaved(gid.xy);
+        let fine = max(u.shaft_q.x, 1u) * 2u;
+        textureStore(shafts_out, px, vec4<f32>(march_pixel(px, k.x, u32(k.y), fine), 1.0));
+    } else {
+        textureStore(shafts_out, px, gather_shafts(px, dist, w, h));
+    }
 }
