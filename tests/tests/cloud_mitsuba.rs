@@ -188,16 +188,18 @@ fn references_were_made_from_this_field() {
 }
 
 /// The radiance bound of each model and Sun. The goal is 15 %.
-/// The diffusion model (the default) achieves 15.2 % (Sun at 60°) and
-/// 26.3 % (Sun at 20°): the column along the light cannot see the flanks
-/// a low Sun lights from the side (the corners of the image away from
-/// the Sun are 30 % too dark). Wrenninge's octaves achieve 20.8 % and
-/// 32.6 %: blind to the Sun's altitude and to how much cloud surrounds a
-/// point. A change that makes any figure worse fails.
+/// The diffusion model (the default) achieves 6.4 % (Sun at 60°) and
+/// 18.0 % (Sun at 20°; its slab turned towards the flanks a low Sun
+/// lights from the side, the column ended at gaps, the forward lobes of
+/// the light scattered a few times); what remains at the low Sun is the
+/// pixel-to-pixel pattern of the 3D light a column cannot see.
+/// Wrenninge's octaves achieve 20.7 % and 32.6 %: blind to the Sun's
+/// altitude and to how much cloud surrounds a point. A change that makes
+/// any figure worse fails.
 fn radiance_bound(model: &str, sun: &str) -> f64 {
     match (model, sun) {
-        ("diffusion", "sun60") => 0.16,
-        ("diffusion", _) => 0.275,
+        ("diffusion", "sun60") => 0.07,
+        ("diffusion", _) => 0.19,
         (_, "sun60") => 0.22,
         _ => 0.34,
     }

@@ -24,9 +24,11 @@ pub mod noise;
 
 pub use field::{HighField, LowField};
 pub use march::{
-    diffuse_source, march_low, optical_depth_low, optical_depth_ray, optical_depth_through,
-    optical_depth_to_light, shade_high, CloudHit, CloudLight, CloudPhase, Diffusion, MarchSettings,
-    MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION, MULTIPLE_SCATTERING, OCTAVES,
+    diffuse_source, forward_lobes, forward_source, march_low, optical_depth_connected,
+    optical_depth_low, optical_depth_ray, optical_depth_through, optical_depth_to_light,
+    phase_power, shade_high, slab_cosine, CloudHit, CloudLight, CloudPhase, Diffusion,
+    MarchSettings, MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION, MAX_FORWARD_ORDERS,
+    MULTIPLE_SCATTERING, OCTAVES,
 };
 
 #[cfg(test)]
