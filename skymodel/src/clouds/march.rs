@@ -26,11 +26,16 @@
 //!
 //! * [`MultipleScattering::Diffusion`] (the default): the column through
 //!   the point along the light is taken as a plane-parallel slab lit at
-//!   the light's zenith angle, and the diffuse light in it is the
-//!   Eddington (diffusion) solution of that slab ([`diffuse_source`]); it
-//!   needs a second short march, away from the light (τ_b), and makes the
-//!   thick cloud's base as bright as a path tracer finds it and the thin
-//!   edges no brighter than their single scattering;
+//!   the light's zenith angle, or along the cloud's surface where a dense
+//!   cloud's flank faces the light ([`slab_cosine`], the density's
+//!   gradient), and the diffuse light in it is the Eddington (diffusion)
+//!   solution of that slab ([`diffuse_source`]); it needs a second short
+//!   march, away from the light (τ_b, ended at the first gap:
+//!   [`optical_depth_connected`]), and makes the thick cloud's base as
+//!   bright as a path tracer finds it and the thin edges no brighter than
+//!   their single scattering; the light scattered a few times into the
+//!   droplets' forward peak, which diffusion spreads over all directions,
+//!   is added back along the beam ([`forward_lobes`]);
 //! * [`MultipleScattering::Octaves`]: Wrenninge's (2013) octaves
 //!   (Hillaire 2016), `S = Σ_{i<N} bⁱ · p(cos θ; cⁱ g) · E · e^{−aⁱ τ_l}`,
 //!   one light march, cheaper, but blind to the Sun's altitude and to how
@@ -156,8 +161,8 @@ pub const MULTIPLE_SCATTERING: MultipleScattering = MultipleScattering::Diffusio
 /// cloud, per unit irradiance of the light, sr⁻¹: the column through the
 /// point along the light, optical depth `tau_l` towards the light and
 /// `tau_b` away from it, taken as a plane-parallel slab whose light falls
-/// at the zenith cosine `mu0` (its vertical optical depth the column's
-/// times μ₀), conservative, scaled to isotropic scattering by the
+/// at the cosine `mu0` to its normal ([`slab_cosine`]; its optical depth
+/// across the column's times μ₀), conservative, scaled to isotropic scattering by the
 /// transport depth x = (1 − g) μ₀ τ. The Eddington equation of the
 /// diffuse fluence U with the direct beam as its source and Marshak's
 /// conditions at both faces,
