@@ -163,11 +163,11 @@ pub const MULTIPLE_SCATTERING: MultipleScattering = MultipleScattering::Diffusio
 /// cloud, per unit irradiance of the light, sr⁻¹: the column through the
 /// point along the light, optical depth `tau_l` towards the light and
 /// `tau_b` away from it, taken as a plane-parallel slab whose light falls
-/// at the cosine `mu0` to its normal ([`slab_cosine`]; its optical depth
-/// across the column's times μ₀), conservative, scaled to isotropic scattering by the
-/// transport depth x = (1 − g) μ₀ τ. The Eddington equation of the
-/// diffuse fluence U with the direct beam as its source and Marshak's
-/// conditions at both faces,
+/// at the cosine `mu0` to its normal ([`slab_cosine`]; its optical
+/// depth across the column's times μ₀), conservative, scaled to
+/// isotropic scattering by the transport depth x = (1 − g) μ₀ τ. The
+/// Eddington equation of the diffuse fluence U with the direct beam as
+/// its source and Marshak's conditions at both faces,
 ///
 /// ```text
 /// U'' = −3 k e^{−x/μ₁},  U − ⅔U' = 0 (x = 0),  U + ⅔U' = 0 (x = X),
@@ -206,9 +206,10 @@ fn extinction_at(field: &LowField, shell: &Shell, p: Vec3) -> f32 {
     field.extinction(Vec2::new(p.x, p.y), p.length() - shell.r_ground)
 }
 
-/// The zenith cosine of the light on the slab of [`diffuse_source`] at
-/// `pos` (planet-centred, km; extinction `sigma` there): the slab lies
-/// along the cloud's surface where the cloud is dense. The surface's
+/// The cosine between the light `l` and the normal of
+/// [`diffuse_source`]'s slab at `pos` (planet-centred, km; extinction
+/// `sigma` there): the slab is horizontal, or lies along the cloud's
+/// surface where the cloud is dense. The surface's
 /// outward normal n is −∇σ (forward differences `surface_step` noise
 /// cells long); a flank that faces the light (n · l above the light's
 /// zenith cosine μ₀) takes the light at n · l, as a low Sun lights a
