@@ -34,12 +34,20 @@ use world_common::metrics::{mean_relative_error, pixel_relative_error, read_exr,
 
 const R_GROUND: f32 = 6360.0;
 
-fn dir() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("fixtures/cloud_ref")
+/// The references of the test's field.
+const TEST_FIELD: &str = "";
+/// The references of the field the diffusion model's constants were
+/// chosen on (seed 7, radiance only).
+const TUNING_FIELD: &str = "seed7";
+
+fn dir(field: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fixtures/cloud_ref")
+        .join(field)
 }
 
-fn json(name: &str) -> Value {
-    let text = std::fs::read_to_string(dir().join(name)).expect("fixture");
+fn json(field: &str, name: &str) -> Value {
+    let text = std::fs::read_to_string(dir(field).join(name)).expect("fixture");
     serde_json::from_str(&text).expect("JSON")
 }
 
@@ -61,8 +69,8 @@ struct Setup {
     v: Value,
 }
 
-fn setup() -> Setup {
-    let v = json("setup.json");
+fn setup(field: &str) -> Setup {
+    let v = json(field, "setup.json");
     let spec: LowCloudSpec = serde_json::from_value(v["low"].clone()).expect("clouds.low");
     Setup {
         field: LowField::new(&spec, 0.0),
@@ -176,28 +184,73 @@ fn himmel_transmittance(s: &Setup, sun: Vec3) -> RgbImage {
 
 #[test]
 fn references_were_made_from_this_field() {
-    let s = setup();
-    let res: [usize; 3] = serde_json::from_value(s.v["grid"].clone()).unwrap();
-    let sum: f64 = s.field.voxel_grid(res).iter().map(|&x| x as f64).sum();
-    let refs = json("references.json");
-    let expect = refs["grid_sum"].as_f64().unwrap();
-    assert!(
-        (sum / expect - 1.0).abs() < 1e-6,
-        "the field changed since the references were made: grid sum {sum} vs {expect} (rerun tools/cloud_reference.py)"
+    for field in [TEST_FIELD, TUNING_FIELD] {
+        let s = setup(field);
+        let res: [usize; 3] = serde_json::from_value(s.v["grid"].clone()).unwrap();
+        let sum: f64 = s.field.voxel_grid(res).iter().map(|&x| x as f64).sum();
+        let refs = json(field, "references.json");
+        let expect = refs["grid_sum"].as_f64().unwrap();
+        assert!(
+            (sum / expect - 1.0).abs() < 1e-6,
+            "{field}: the field changed since the references were made: grid sum {sum} vs {expect} (rerun tools/cloud_reference.py)"
+        );
+    }
+}
+
+/// Himmel's radiance against the reference of Sun `name` in the
+/// zenith view: the number of cloud pixels (Himmel's transmittance below
+/// 0.9), Σ|ΔY|/ΣY over them, printed with the mean per-pixel error and
+/// the ratio of the sums.
+fn radiance_error(
+    s: &Setup,
+    field: &str,
+    name: &str,
+    model: &str,
+    l: Vec3,
+    settings: &MarchSettings,
+    bound: f64,
+) -> (usize, f64) {
+    let reference = read_exr(dir(field).join(format!("{name}_radiance.exr"))).unwrap();
+    let (img, trans) = himmel_radiance(s, l, settings);
+    let cloud: Vec<bool> = trans.iter().map(|&t| t < 0.9).collect();
+    let n = cloud.iter().filter(|&&c| c).count();
+    let weighted = mean_relative_error(&img, &reference, &cloud);
+    let per_pixel = pixel_relative_error(&img, &reference, &cloud);
+    let sums = img
+        .luminance()
+        .iter()
+        .zip(reference.luminance())
+        .zip(&cloud)
+        .filter(|(_, c)| **c)
+        .fold((0.0, 0.0), |(a, b), ((x, y), _)| (a + x, b + y));
+    let label = if field.is_empty() {
+        name.to_string()
+    } else {
+        format!("{field} {name}")
+    };
+    println!(
+        "{label} {model}: radiance over {n} cloud pixels: Σ|ΔY|/ΣY {:.1} % (bound {:.1} %), mean |ΔY|/Y {:.1} %, ΣY_himmel/ΣY_mitsuba {:.3}",
+        weighted * 100.0,
+        bound * 100.0,
+        per_pixel * 100.0,
+        sums.0 / sums.1
     );
+    (n, weighted)
 }
 
 /// The radiance bound of each model and Sun. The goal is 15 %.
-/// The diffusion model (the default) achieves 15.2 % (Sun at 60°) and
-/// 26.3 % (Sun at 20°): the column along the light cannot see the flanks
-/// a low Sun lights from the side (the corners of the image away from
-/// the Sun are 30 % too dark). Wrenninge's octaves achieve 20.8 % and
-/// 32.6 %: blind to the Sun's altitude and to how much cloud surrounds a
-/// point. A change that makes any figure worse fails.
+/// The diffusion model (the default) achieves 7.3 % (Sun at 60°) and
+/// 20.3 % (Sun at 20°; its slab turned towards the flanks a low Sun
+/// lights from the side, the column ended at gaps, the forward lobes of
+/// the light scattered a few times, its constants chosen on another
+/// field); what remains at the low Sun is the pixel-to-pixel pattern of
+/// the 3D light a column cannot see. Wrenninge's octaves achieve 20.7 %
+/// and 32.6 %: blind to the Sun's altitude and to how much cloud
+/// surrounds a point. A change that makes any figure worse fails.
 fn radiance_bound(model: &str, sun: &str) -> f64 {
     match (model, sun) {
-        ("diffusion", "sun60") => 0.16,
-        ("diffusion", _) => 0.275,
+        ("diffusion", "sun60") => 0.08,
+        ("diffusion", _) => 0.21,
         (_, "sun60") => 0.22,
         _ => 0.34,
     }
@@ -205,7 +258,7 @@ fn radiance_bound(model: &str, sun: &str) -> f64 {
 
 #[test]
 fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
-    let s = setup();
+    let s = setup(TEST_FIELD);
     let mut failures = Vec::new();
     for sun in s.v["suns"].as_array().unwrap() {
         let name = sun["name"].as_str().unwrap();
@@ -213,7 +266,6 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
             sun["alt_deg"].as_f64().unwrap(),
             sun["az_deg"].as_f64().unwrap(),
         );
-        let reference = read_exr(dir().join(format!("{name}_radiance.exr"))).unwrap();
         let mut n = 0;
         for (model, scattering) in [
             ("diffusion", MultipleScattering::Diffusion(DIFFUSION)),
@@ -222,30 +274,13 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
             let bound = radiance_bound(model, name);
             let mut s_model = s.settings;
             s_model.scattering = scattering;
-            let (img, trans) = himmel_radiance(&s, l, &s_model);
-            let cloud: Vec<bool> = trans.iter().map(|&t| t < 0.9).collect();
-            n = cloud.iter().filter(|&&c| c).count();
-            let weighted = mean_relative_error(&img, &reference, &cloud);
-            let per_pixel = pixel_relative_error(&img, &reference, &cloud);
-            let sums = img
-                .luminance()
-                .iter()
-                .zip(reference.luminance())
-                .zip(&cloud)
-                .filter(|(_, c)| **c)
-                .fold((0.0, 0.0), |(a, b), ((x, y), _)| (a + x, b + y));
-            println!(
-                "{name} {model}: radiance over {n} cloud pixels: Σ|ΔY|/ΣY {:.1} % (bound {:.1} %), mean |ΔY|/Y {:.1} %, ΣY_himmel/ΣY_mitsuba {:.3}",
-                weighted * 100.0,
-                bound * 100.0,
-                per_pixel * 100.0,
-                sums.0 / sums.1
-            );
+            let weighted;
+            (n, weighted) = radiance_error(&s, TEST_FIELD, name, model, l, &s_model, bound);
             if weighted.is_nan() || weighted > bound {
                 failures.push(format!("{name} {model} radiance {:.1} %", weighted * 100.0));
             }
         }
-        let t_ref = read_exr(dir().join(format!("{name}_transmittance.exr"))).unwrap();
+        let t_ref = read_exr(dir(TEST_FIELD).join(format!("{name}_transmittance.exr"))).unwrap();
         let t_him = himmel_transmittance(&s, l);
         let through: Vec<bool> = t_him.pixels.iter().map(|p| p[1] < 0.999).collect();
         let e = mean_relative_error(&t_him, &t_ref, &through);
@@ -258,6 +293,30 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
             failures.push(format!("{name} transmittance {:.2} %", e * 100.0));
         }
         assert!(n > 50 && m > 50, "{name}: too few cloud pixels ({n}, {m})");
+    }
+    assert!(failures.is_empty(), "{failures:?}");
+}
+
+/// The field the diffusion model's constants (`DIFFUSION`: gain,
+/// gap_density, surface_weight) were chosen on, seed 7 (references at
+/// 4096 spp, noise 4.1 % and 8.8 % per pixel): 9.0 % (Sun at 60°) and
+/// 20.3 % (Sun at 20°). A change that makes either worse fails.
+#[test]
+fn the_field_the_constants_were_chosen_on() {
+    let s = setup(TUNING_FIELD);
+    let mut failures = Vec::new();
+    for sun in s.v["suns"].as_array().unwrap() {
+        let name = sun["name"].as_str().unwrap();
+        let l = towards(
+            sun["alt_deg"].as_f64().unwrap(),
+            sun["az_deg"].as_f64().unwrap(),
+        );
+        let bound = if name == "sun60" { 0.10 } else { 0.21 };
+        let (n, e) = radiance_error(&s, TUNING_FIELD, name, "diffusion", l, &s.settings, bound);
+        assert!(n > 50, "{name}: too few cloud pixels ({n})");
+        if e.is_nan() || e > bound {
+            failures.push(format!("{name} radiance {:.1} %", e * 100.0));
+        }
     }
     assert!(failures.is_empty(), "{failures:?}");
 }

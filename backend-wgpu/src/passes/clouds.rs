@@ -38,12 +38,14 @@ use crate::gpu::{bind_group, storage_entry, uniform_entry, Gpu};
 use crate::pass::{Dispatch, Groups};
 use crate::uniforms::AtmosphereUniforms;
 
-/// The clouds pass: frame.wgsl, clouds.wgsl, then the atmosphere's
+/// The clouds pass: frame.wgsl, clouds.wgsl and its diffusion model
+/// (clouds_diffusion.wgsl), then the atmosphere's
 /// uniforms and lookups (atmo.wgsl), the medium (medium.wgsl) and the
 /// bilinear lookup (bilinear.wgsl).
 pub const CLOUDS_WGSL: &str = concat!(
     include_str!("../shaders/frame.wgsl"),
     include_str!("../shaders/clouds.wgsl"),
+    include_str!("../shaders/clouds_diffusion.wgsl"),
     include_str!("../shaders/atmo.wgsl"),
     include_str!("../shaders/medium.wgsl"),
     include_str!("../shaders/bilinear.wgsl")
@@ -51,7 +53,7 @@ pub const CLOUDS_WGSL: &str = concat!(
 
 /// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
 /// cloud fields, the model's constants, the lights and the aerial
-/// perspective's inputs, the ground's cloud shadows. 464 bytes.
+/// perspective's inputs, the ground's cloud shadows. 480 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CloudUniforms {
@@ -183,9 +185,12 @@ pub struct CloudUniforms {
     pub ground1_dir: [f32; 4],
     /// The second ground light's direct part of the ground.
     pub ground1_rgb: [f32; 4],
+    /// `Diffusion::gap_density`, `surface_step`, `surface_weight` and
+    /// `forward_orders` (0 with the octaves model).
+    pub diffusion_shape: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 464);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 480);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -206,9 +211,19 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
     let m = &c.march;
     // The diffusion model marches the octaves' first term (single
     // scattering) and adds the diffuse source (march.rs `march_low`).
-    let (octaves, diffusion_g, diffusion_gain) = match m.scattering {
-        MultipleScattering::Octaves(o) => (o, 0.0, 0.0),
-        MultipleScattering::Diffusion(d) => (Octaves { n: 1, ..OCTAVES }, d.g, d.gain),
+    let (octaves, diffusion_g, diffusion_gain, diffusion_shape) = match m.scattering {
+        MultipleScattering::Octaves(o) => (o, 0.0, 0.0, [0.0; 4]),
+        MultipleScattering::Diffusion(d) => (
+            Octaves { n: 1, ..OCTAVES },
+            d.g,
+            d.gain,
+            [
+                d.gap_density,
+                d.surface_step,
+                d.surface_weight,
+                d.forward_orders as f32,
+            ],
+        ),
     };
     let mut u = CloudUniforms {
         octave_shift: OCTAVE_SHIFT.to_array(),
@@ -224,6 +239,7 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
         octave_c: octaves.c,
         diffusion_g,
         diffusion_gain,
+        diffusion_shape,
         phase_g_forward: CLOUD_PHASE.g_forward,
         phase_g_back: CLOUD_PHASE.g_back,
         phase_w_forward: CLOUD_PHASE.w_forward,
@@ -475,6 +491,7 @@ mod tests {
                 ground0_rgb,
                 ground1_dir,
                 ground1_rgb,
+                diffusion_shape,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);
@@ -512,6 +529,15 @@ mod tests {
         assert_eq!(
             (u.diffusion_g, u.diffusion_gain),
             (DIFFUSION.g, DIFFUSION.gain)
+        );
+        assert_eq!(
+            u.diffusion_shape,
+            [
+                DIFFUSION.gap_density,
+                DIFFUSION.surface_step,
+                DIFFUSION.surface_weight,
+                DIFFUSION.forward_orders as f32
+            ]
         );
         assert_eq!(u.phase_g_forward, CLOUD_PHASE.g_forward);
         assert_eq!(u.r_observer, c.shell.r_observer);

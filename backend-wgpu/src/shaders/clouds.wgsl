@@ -110,6 +110,9 @@ struct Clouds {
     ground0_rgb: vec4<f32>,
     ground1_dir: vec4<f32>,
     ground1_rgb: vec4<f32>,
+    // march.rs `Diffusion`: gap_density, surface_step, surface_weight,
+    // forward_orders (clouds_diffusion.wgsl)
+    diffusion_shape: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;
@@ -335,41 +338,6 @@ fn optical_depth_to_light(pos: vec3<f32>, l: vec3<f32>, n: u32) -> f32 {
     return tau;
 }
 
-// march.rs `optical_depth_through`.
-fn optical_depth_through(pos: vec3<f32>, dir: vec3<f32>, n: u32) -> f32 {
-    let r = length(pos);
-    let sl = slab_from(r, dot(pos, dir) / r, clouds.low_base_km, clouds.low_top_km);
-    if (sl.z == 0.0) {
-        return 0.0;
-    }
-    let ds = (sl.y - sl.x) / f32(n);
-    var tau = 0.0;
-    for (var k = 0u; k < n; k = k + 1u) {
-        let p = pos + dir * (sl.x + (f32(k) + 0.5) * ds);
-        tau = tau + low_extinction(p.xy, length(p) - clouds.r_ground) * ds;
-    }
-    return tau;
-}
-
-// march.rs `diffuse_source`: the Eddington solution of the column along
-// the light (per unit irradiance, sr⁻¹).
-fn diffuse_source(tau_l: f32, tau_b: f32, mu0_in: f32, cos_theta: f32) -> f32 {
-    let mu0 = max(mu0_in, 0.05);
-    let g = clouds.diffusion_g;
-    let s = 1.0 - g;
-    let mu1 = s * mu0;
-    let x = s * mu0 * tau_l;
-    let big_x = s * mu0 * (tau_l + tau_b);
-    let beam = exp(-tau_l);
-    let through = exp(-(tau_l + tau_b));
-    let c = 3.0 * mu0 * mu1 + 2.0 * mu0;
-    let a = -(c + through * (2.0 * mu0 - 3.0 * mu0 * mu1)) / (big_x + 4.0 / 3.0);
-    let b = c + 2.0 / 3.0 * a;
-    let u = max(-3.0 * mu0 * mu1 * beam + a * x + b, 0.0);
-    let flux = -mu0 * beam - a / 3.0;
-    return clouds.diffusion_gain * max(u + 3.0 * g * flux * cos_theta, 0.0) / (4.0 * PI);
-}
-
 // march.rs `CloudHit`.
 struct CloudHit {
     radiance: vec3<f32>,
@@ -414,6 +382,12 @@ fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudH
             k = k * clouds.octave_c;
         }
     }
+    var lobes: array<vec4<f32>, 2>;
+    for (var j = 0u; j < ls.count; j = j + 1u) {
+        if (clouds.diffusion_gain > 0.0) {
+            lobes[j] = forward_lobes(dot(view, ls.dir[j]));
+        }
+    }
     var l = vec3<f32>(0.0);
     var tr = 1.0;
     var dist = 0.0;
@@ -439,9 +413,11 @@ fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudH
                 bi = bi * clouds.octave_b;
             }
             if (clouds.diffusion_gain > 0.0) {
-                let tau_b = optical_depth_through(pos, -ls.dir[j], clouds.light_steps);
-                let up = pos / length(pos);
-                f = f + diffuse_source(tau, tau_b, dot(up, ls.dir[j]), dot(view, ls.dir[j]));
+                let gap = clouds.diffusion_shape.x * clouds.low_extinction_per_km;
+                let tau_b = optical_depth_connected(pos, -ls.dir[j], clouds.light_steps, gap);
+                let mu = slab_cosine(pos, sigma, ls.dir[j]);
+                f = f + diffuse_source(tau, tau_b, mu, dot(view, ls.dir[j]));
+                f = f + forward_source(lobes[j], tau);
             }
             src = src + f * ls.rgb[j];
         }

@@ -24,9 +24,11 @@ pub mod noise;
 
 pub use field::{HighField, LowField};
 pub use march::{
-    diffuse_source, march_low, optical_depth_low, optical_depth_ray, optical_depth_through,
-    optical_depth_to_light, shade_high, CloudHit, CloudLight, CloudPhase, Diffusion, MarchSettings,
-    MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION, MULTIPLE_SCATTERING, OCTAVES,
+    diffuse_source, forward_lobes, forward_source, march_low, optical_depth_connected,
+    optical_depth_low, optical_depth_ray, optical_depth_through, optical_depth_to_light,
+    phase_power, shade_high, slab_cosine, CloudHit, CloudLight, CloudPhase, Diffusion,
+    MarchSettings, MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION, MAX_FORWARD_ORDERS,
+    MULTIPLE_SCATTERING, OCTAVES,
 };
 
 #[cfg(test)]
@@ -144,6 +146,73 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// The m-fold convolved phase function is normalised with mean cosine
+    /// g^m; the forward lobes are large towards the light, small
+    /// sideways and backwards, and weigh nothing outside a cloud
+    /// (τ = 0) and in its depths.
+    #[test]
+    fn forward_lobes_and_phase_powers() {
+        for m in [1u32, 2, 3] {
+            let n = 40_000;
+            let (mut s0, mut s1) = (0.0f64, 0.0f64);
+            for i in 0..n {
+                let mu = -1.0 + 2.0 * (i as f64 + 0.5) / n as f64;
+                let p = phase_power(m, mu as f32) as f64 * 2.0 / n as f64;
+                s0 += p;
+                s1 += p * mu;
+            }
+            let tau = 2.0 * std::f64::consts::PI;
+            assert!((s0 * tau - 1.0).abs() < 2e-3, "{m}: {}", s0 * tau);
+            let g = (DIFFUSION.g as f64).powi(m as i32);
+            assert!((s1 * tau - g).abs() < 2e-3, "{m}: {} vs {g}", s1 * tau);
+        }
+        assert!((phase_power(1, 0.3) - CLOUD_PHASE.eval(0.3, 1.0)).abs() < 1e-6);
+        let fwd = forward_lobes(&DIFFUSION, 1.0);
+        assert!(fwd[0] > 0.3 && fwd[1] > 0.0 && fwd[2] == 0.0, "{fwd:?}");
+        let side = forward_lobes(&DIFFUSION, 0.0);
+        let back = forward_lobes(&DIFFUSION, -0.5);
+        assert!(
+            side[0] < 0.02 * fwd[0] && back[0] < 0.02 * fwd[0],
+            "{side:?} {back:?}"
+        );
+        let none = Diffusion {
+            forward_orders: 0,
+            ..DIFFUSION
+        };
+        assert_eq!(forward_lobes(&none, 1.0), [0.0; MAX_FORWARD_ORDERS]);
+        assert_eq!(forward_source(&fwd, 0.0), 0.0);
+        assert!(forward_source(&fwd, 1.0) > 0.1 && forward_source(&fwd, 40.0) < 1e-12);
+    }
+
+    /// The slab's cosine is the light's zenith cosine where the field is
+    /// flat or empty and never below it; on a flank a low light faces
+    /// it is larger. The connected column ends at the first gap.
+    #[test]
+    fn slab_cosine_and_connected_column() {
+        let f = field();
+        let sh = shell();
+        let sun = Vec3::new(0.0, 0.94, 0.342);
+        let up = Vec3::new(0.0, 0.0, RG + 1.8);
+        assert!((slab_cosine(&DIFFUSION, &f, &sh, up, 0.0, sun) - 0.342).abs() < 1e-3);
+        let mut lit = 0;
+        for i in 0..400 {
+            let p = Vec3::new(
+                (i % 20) as f32 * 0.31,
+                (i / 20) as f32 * 0.27,
+                RG + f.base_km + 0.4,
+            );
+            let sigma = f.extinction(glam::Vec2::new(p.x, p.y), p.length() - RG);
+            let mu = slab_cosine(&DIFFUSION, &f, &sh, p, sigma, sun);
+            assert!((0.342 - 1e-3..=1.0 + 1e-6).contains(&mu), "{mu}");
+            lit += (mu > 0.5) as u32;
+            let all = optical_depth_through(&f, &sh, p, -sun, 6);
+            let piece = optical_depth_connected(&f, &sh, p, -sun, 6, 3.0);
+            assert!(piece <= all + 1e-4 && piece >= 0.0, "{piece} {all}");
+            assert_eq!(optical_depth_connected(&f, &sh, p, -sun, 6, -1.0), all);
+        }
+        assert!(lit > 10, "lit flanks: {lit}");
     }
 
     /// In the thin limit the high layer scatters p(θ) E τ / μ_v and
