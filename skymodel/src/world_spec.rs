@@ -331,6 +331,8 @@ pub struct LightingSpec {
     pub godrays: GodraysSettings,
     /// Ambient occlusion of the sky light ([`crate::ao_spec`]).
     pub ao: crate::ao_spec::AoSettings,
+    /// Screen-space reflections ([`crate::ssr_spec`]).
+    pub ssr: crate::ssr_spec::SsrSettings,
 }
 
 impl LightingSpec {
@@ -384,6 +386,7 @@ impl LightingSpec {
         ] {
             range(f, v, lo, hi)?;
         }
+        self.ssr.validate()?;
         self.ao.validate()
     }
 }
