@@ -121,4 +121,14 @@ mod tests {
         assert_eq!(a.max_steps, 64);
         assert!(serde_json::from_str::<SsrSettings>(r#"{"steps": 1}"#).is_err());
     }
+
+    #[test]
+    fn the_world_template_shows_the_keys() {
+        let t: serde_json::Value =
+            serde_json::from_str(&crate::Scene::template_world_json()).unwrap();
+        let s = &t["lighting"]["ssr"];
+        assert_eq!(s["max_roughness"], 0.5);
+        assert_eq!(s["samples"], 8);
+        assert_eq!(s["history"], true);
+    }
 }

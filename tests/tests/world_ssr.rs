@@ -193,6 +193,53 @@ fn ssr_against_mitsuba() {
     }
 }
 
+/// With `history` (the default), the second frame of a sequence reads the
+/// first frame's final image reprojected with its view-projection (here
+/// the same camera): the stat says so, and the floor's error stays within
+/// 0.01 of the first frame's (boxes are Lambertian: the reflections of
+/// reflections the history adds are not on them).
+#[test]
+fn ssr_reads_the_previous_frame() {
+    let name = CASES[0];
+    let c = case(name);
+    let dir = root().join("tests/fixtures/ssr_ref");
+    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
+    let reflects = mask_channel(
+        &read_exr(dir.join(format!("{name}_mask.exr"))).unwrap(),
+        SKYLIT,
+    );
+    let mut r = WgpuRenderer::new(None).unwrap();
+    let mut s = world_common::cases::case_scene(&c);
+    s.effects.push(Effect::Ssr);
+    let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
+    r.set_world(&world);
+    let state = SkyState::at(&s).unwrap();
+    let mut errors = Vec::new();
+    for source in ["this frame", "the previous frame, reprojected"] {
+        let out = r.render(&s, &state).unwrap();
+        let stat = out.passes.iter().find(|p| p.name == "ssr").unwrap();
+        let why = stat.reason.as_deref().unwrap_or("");
+        assert!(stat.ran && why.ends_with(source), "{why}");
+        let conf = r.ssr_image().unwrap().unwrap().confidence;
+        let mask: Vec<bool> = reflects
+            .iter()
+            .zip(&conf)
+            .map(|(m, c)| *m && *c >= 0.5)
+            .collect();
+        let img = RgbImage {
+            width: out.image.width,
+            height: out.image.height,
+            pixels: out.image.pixels,
+        };
+        errors.push(mean_relative_error(&img, &reference, &mask));
+    }
+    println!(
+        "{name}: error {:.4} (this frame), {:.4} (history)",
+        errors[0], errors[1]
+    );
+    assert!((errors[1] - errors[0]).abs() <= 0.01, "{errors:?}");
+}
+
 /// The pass runs only where it can show: not for a world without a smooth
 /// material (the plane with boxes is all Lambertian), and not when
 /// `max_roughness` lies below the floor's roughness.
