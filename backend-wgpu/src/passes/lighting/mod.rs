@@ -164,6 +164,7 @@ impl LightingPasses {
             self.world = Some(GpuWorld::new(gpu, world, ground_albedo));
             self.maps.invalidate_visibility();
             self.shadow_key = None;
+            self.ssr.forget_history();
         }
         ms(t)
     }

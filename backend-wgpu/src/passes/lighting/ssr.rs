@@ -284,12 +284,19 @@ impl Reflections {
     pub fn arm(&mut self, gpu: &Gpu, on: bool, size: (u32, u32)) {
         self.armed = on;
         if !on {
+            // A later frame must not read an image older than its last.
+            self.history_vp = None;
             return;
         }
         if self.images.as_ref().map(|i| i.size) != Some(size) {
             self.images = Some(images(gpu, size));
             self.history_vp = None;
         }
+    }
+
+    /// Forgets the kept frame (a new world: its image shows the old one).
+    pub fn forget_history(&mut self) {
+        self.history_vp = None;
     }
 
     /// The lighting pass's outputs for the pass (the sky's specular term
