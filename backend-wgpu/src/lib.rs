@@ -55,6 +55,7 @@ use himmel_skymodel::{Camera, Effect, FramePlan, Projection, Scene, SkyState, Un
 pub use frame::{GpuFrame, TARGET_FORMAT};
 pub use gpu::{Timing, WgpuError};
 pub use passes::lighting::ao::AoImage;
+pub use passes::lighting::ssr::SsrImage;
 pub use passes::luts::{self as luts, LutSource};
 pub use passes::moon::moon_uniforms;
 pub use passes::points::{point_lists, quad_scale, PointLists, PointMethod, POINT_TILE};
@@ -415,7 +416,7 @@ impl WgpuRenderer {
             for s in stats.iter_mut() {
                 match s.name.as_str() {
                     "world" => s.ms = Some(world_ms),
-                    "shadows" | "godrays" | "ao" => {
+                    "shadows" | "godrays" | "ao" | "ssr" => {
                         if let Some(w) = world_stats.iter().find(|w| w.name == s.name) {
                             *s = w.clone();
                         }
@@ -426,7 +427,7 @@ impl WgpuRenderer {
             stats.extend(
                 world_stats
                     .into_iter()
-                    .filter(|s| !matches!(s.name.as_str(), "shadows" | "godrays" | "ao")),
+                    .filter(|s| !matches!(s.name.as_str(), "shadows" | "godrays" | "ao" | "ssr")),
             );
         }
         Ok(GpuFrame {
@@ -545,7 +546,7 @@ impl WgpuRenderer {
                 }
                 // The world, its shadows, light shafts and ambient
                 // occlusion are drawn after the sky (world_frame.rs).
-                Effect::World | Effect::Shadows | Effect::Godrays | Effect::Ao => {}
+                Effect::World | Effect::Shadows | Effect::Godrays | Effect::Ao | Effect::Ssr => {}
                 other => {
                     // `--backend auto` then falls back to the CPU.
                     return Err(RenderError::Unavailable(Unavailable::PassNotPorted(other)));
@@ -616,6 +617,12 @@ impl WgpuRenderer {
     /// frame that ran the `ao` pass (`None` before the first).
     pub fn ao_image(&self) -> Result<Option<AoImage>, RenderError> {
         self.lighting.ao_image(&self.gpu)
+    }
+
+    /// The reflections' confidence image of the last world frame that ran
+    /// the `ssr` pass (`None` before the first).
+    pub fn ssr_image(&self) -> Result<Option<SsrImage>, RenderError> {
+        self.lighting.ssr_image(&self.gpu)
     }
 
     /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H

@@ -222,6 +222,7 @@ impl WgpuRenderer {
             godrays: plan.runs(Effect::Godrays),
             clouds: plan.clouds.as_ref(),
             ao: plan.runs(Effect::Ao),
+            ssr: plan.runs(Effect::Ssr),
         };
         stats.extend(self.lighting.render(&self.gpu, &inputs, target)?);
         Ok(stats)

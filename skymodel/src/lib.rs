@@ -71,6 +71,7 @@ pub mod scene_error;
 pub mod sequence;
 pub mod solar_time;
 pub mod spectrum;
+pub mod ssr_spec;
 pub mod stars;
 pub mod state;
 pub mod sun;
@@ -86,6 +87,7 @@ pub use plan::{PlannedPass, SkipReason};
 pub use projection::{Camera, Projection};
 pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, Unavailable};
 pub use scene::{Effect, OverlaySpec, Scene, SceneError, StarParams};
+pub use ssr_spec::SsrSettings;
 pub use state::{SkyState, SunState};
 pub use texture_spec::SkyTextureSpec;
 pub use world_spec::{

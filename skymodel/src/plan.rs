@@ -48,6 +48,10 @@ pub enum SkipReason {
     /// Ambient occlusion without the sky's light (the atmosphere pass not
     /// requested): it multiplies nothing else.
     NoSkyLight,
+    /// Screen-space reflections without the sky's light (the atmosphere
+    /// pass not requested): the reflections replace the sky's specular
+    /// term, which is then absent.
+    NoSkyReflection,
     /// Screen-space light shafts (`mitchell`, `sousa`) whose light is far
     /// off screen ([`shaft_light_off_screen`]).
     ShaftLightOffScreen {
@@ -190,6 +194,9 @@ impl std::fmt::Display for SkipReason {
             SkipReason::NoSkyLight => f.write_str(
                 "no sky light to occlude (the atmosphere pass is not requested); AO multiplies only the sky's light",
             ),
+            SkipReason::NoSkyReflection => f.write_str(
+                "no sky light whose specular term the reflections replace (the atmosphere pass is not requested)",
+            ),
             SkipReason::ShaftLightOffScreen {
                 light,
                 off_axis_deg,
@@ -283,6 +290,9 @@ pub fn plan(
                         Some(SkipReason::NoShaftLight)
                     }
                     Effect::Ao if !scene.wants(Effect::Atmosphere) => Some(SkipReason::NoSkyLight),
+                    Effect::Ssr if !scene.wants(Effect::Atmosphere) => {
+                        Some(SkipReason::NoSkyReflection)
+                    }
                     Effect::Godrays if scene.lighting.godrays.method.screen_space() => {
                         shaft_light_off_screen(scene, sun, moon)
                     }
@@ -368,8 +378,8 @@ mod tests {
     fn reasons_read_as_before() {
         assert_eq!(SkipReason::NotRequested.to_string(), "not requested");
         assert_eq!(
-            SkipReason::NotAvailable(Effect::Ssr).to_string(),
-            "not available yet: the ssr pass arrives with a later version"
+            SkipReason::NotAvailable(Effect::Gi).to_string(),
+            "not available yet: the gi pass arrives with a later version"
         );
         assert_eq!(
             SkipReason::MoonBelowHorizon {

@@ -124,6 +124,7 @@ impl Effect {
                 | Effect::Shadows
                 | Effect::Godrays
                 | Effect::Ao
+                | Effect::Ssr
         )
     }
 

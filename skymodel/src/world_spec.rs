@@ -334,6 +334,8 @@ pub struct LightingSpec {
     pub godrays: GodraysSettings,
     /// Ambient occlusion of the sky light ([`crate::ao_spec`]).
     pub ao: crate::ao_spec::AoSettings,
+    /// Screen-space reflections ([`crate::ssr_spec`]).
+    pub ssr: crate::ssr_spec::SsrSettings,
 }
 
 impl LightingSpec {
@@ -387,6 +389,7 @@ impl LightingSpec {
         ] {
             range(f, v, lo, hi)?;
         }
+        self.ssr.validate()?;
         self.ao.validate()
     }
 }

@@ -1,5 +1,7 @@
 //! Writes the procedural test worlds as `.glb` files for the reference
-//! tools (Mitsuba): `plane_and_boxes.glb`, `sun_room.glb`, `atrium.glb`.
+//! tools (Mitsuba): `plane_and_boxes.glb`, `sun_room.glb`, `atrium.glb`,
+//! and the plane with boxes on a metal floor of roughness 0.05 and 0.3
+//! (`glossy_floor_005.glb`, `glossy_floor_030.glb`).
 //!
 //! ```sh
 //! cargo run -p himmel-world --example export_worlds -- OUT_DIR
@@ -18,6 +20,8 @@ fn main() {
         ("plane_and_boxes", procedural::plane_and_boxes()),
         ("sun_room", procedural::sun_room()),
         ("atrium", procedural::atrium()),
+        ("glossy_floor_005", procedural::glossy_plane_and_boxes(0.05)),
+        ("glossy_floor_030", procedural::glossy_plane_and_boxes(0.3)),
     ] {
         let path = dir.join(format!("{name}.glb"));
         if let Err(e) = std::fs::write(&path, gltf_io::to_glb(&world)) {

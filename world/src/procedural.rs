@@ -6,6 +6,8 @@
 //!
 //! * [`plane_and_boxes`] — a 40 m × 40 m ground, three boxes and a 2 m pole
 //!   (the shadow tests: direction and length);
+//! * [`glossy_plane_and_boxes`] — the same with a polished metal floor
+//!   (the screen-space reflection tests);
 //! * [`sun_room`] — a closed 6 m × 3 m × 5 m room whose only opening is a
 //!   2 m × 1.5 m window in the south wall (the seed GI thesis' indoor case:
 //!   the floor and walls see the sky only through it);
@@ -164,6 +166,23 @@ pub fn plane_and_boxes() -> World {
     b.cuboid(grey, v(2.0, 0.0, 4.0), v(3.0, 0.5, 6.0));
     b.cuboid(white, v(-0.05, 0.0, -0.05), v(0.05, 2.0, 0.05));
     b.build()
+}
+
+/// [`plane_and_boxes`] with a polished metal floor: base colour 0.9,
+/// metallic 1 and perceptual roughness `roughness` (GGX α = roughness²),
+/// in which the boxes and the pole reflect.
+pub fn glossy_plane_and_boxes(roughness: f32) -> World {
+    let mut w = plane_and_boxes();
+    if let Some(m) = w.materials.first_mut() {
+        *m = Material {
+            name: Some("metal floor".into()),
+            base_color: [0.9, 0.9, 0.9, 1.0],
+            metallic: 1.0,
+            roughness,
+            ..Material::default()
+        };
+    }
+    w
 }
 
 /// The sun room's inner size (x, y, z), metres.

@@ -77,6 +77,10 @@ pub struct GpuWorld {
     /// The identity of the uploaded world's content ([`identity`]), to
     /// know when a new one is given.
     pub identity: (usize, usize, usize),
+    /// The least roughness of a drawn material that is not Lambertian
+    /// (metallic, or roughness < 1); `None` when all are Lambertian (the
+    /// ssr pass's test).
+    pub min_roughness: Option<f32>,
 }
 
 /// The identity of a world's content: an FNV-1a hash of its vertices,
@@ -172,6 +176,12 @@ impl GpuWorld {
             usage: wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
+        let min_roughness = draws
+            .iter()
+            .filter_map(|d| world.materials.get(d.material as usize))
+            .filter(|m| m.metallic > 0.0 || m.roughness < 1.0)
+            .map(|m| m.roughness)
+            .reduce(f32::min);
         GpuWorld {
             vertices: init(
                 "world vertices",
@@ -198,6 +208,7 @@ impl GpuWorld {
             ),
             ground_material,
             bounds: world.bounds(),
+            min_roughness,
             triangles: world.triangles(),
             material_count: world.materials.len(),
             identity: identity(world),

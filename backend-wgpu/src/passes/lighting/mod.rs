@@ -19,7 +19,10 @@
 //!    runs, the fog's in-scattering marched along the view rays
 //!    ([`godrays`], `godrays.wgsl`), blurred in screen space
 //!    ([`radial`], `radial.wgsl`) or integrated through a frustum-aligned
-//!    volume ([`froxel`], `froxel.wgsl`), which it adds.
+//!    volume ([`froxel`], `froxel.wgsl`), which it adds;
+//! 6. **screen-space reflections** ([`ssr`], `ssr.wgsl`), when `ssr` runs
+//!    and a material of the world is smooth enough: a Hi-Z march of GGX
+//!    reflected rays that replaces the sky's specular term where they hit.
 //!
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
@@ -33,6 +36,7 @@ pub mod mesh;
 pub mod pipelines;
 pub mod radial;
 pub mod resources;
+pub mod ssr;
 pub mod view;
 
 use std::time::Instant as Clock;
@@ -103,6 +107,9 @@ pub struct WorldInputs<'a> {
     pub clouds: Option<&'a himmel_skymodel::frame::CloudFrame>,
     /// Whether the ao pass runs (the plan's decision).
     pub ao: bool,
+    /// Whether the ssr pass is requested (the plan's decision; it also
+    /// needs a smooth enough material, [`LightingPasses::render`]).
+    pub ssr: bool,
 }
 
 /// Why the shadow maps of the last frame still hold.
@@ -132,6 +139,7 @@ pub struct LightingPasses {
     ao: ao::Occlusion,
     radial: radial::Radial,
     froxel: froxel::Froxels,
+    ssr: ssr::Reflections,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -156,6 +164,7 @@ impl LightingPasses {
             self.world = Some(GpuWorld::new(gpu, world, ground_albedo));
             self.maps.invalidate_visibility();
             self.shadow_key = None;
+            self.ssr.forget_history();
         }
         ms(t)
     }
@@ -206,11 +215,32 @@ impl LightingPasses {
         stats.push(self.visibility_step(gpu, inputs)?);
         let shadows = self.shadow_step(gpu, inputs, &cam)?;
         stats.extend(self.cloud_shadow_step(gpu, inputs, &cam));
+        // Step 3c: whether the ssr pass runs, armed before the lighting pass.
+        let least = self.world.as_ref().and_then(|w| w.min_roughness);
+        let reflect = ssr::decide(inputs.scene, inputs.ssr, inputs.env.is_some(), least);
+        let on = inputs.ssr && reflect.is_ok();
+        self.ssr.arm(gpu, on, (cam.width, cam.height));
         let (lit, shafts) = self.lighting_step(gpu, inputs, &cam, target)?;
         stats.push(lit);
         stats.extend(shadows);
         stats.extend(shafts);
+        if let Some(gb) = self.gbuffer.as_ref().filter(|_| inputs.ssr) {
+            stats.push(match reflect {
+                Ok(()) => {
+                    let s = &inputs.scene.lighting.ssr;
+                    let frame = (target, cam.view_projection());
+                    self.ssr.run(gpu, gb, &cam, s, frame)?
+                }
+                Err(why) => stat("ssr", false, None, Some(why)),
+            });
+        }
         Ok(stats)
+    }
+
+    /// The reflections' confidence image of the last frame that ran the
+    /// ssr pass.
+    pub fn ssr_image(&self, gpu: &Gpu) -> Result<Option<ssr::SsrImage>, RenderError> {
+        self.ssr.read_back(gpu)
     }
 
     /// Step 1: the G-buffer (and the ground plane under the eye).
@@ -486,6 +516,7 @@ impl LightingPasses {
         let shafts_view = self.shafts.view(gpu, inputs.godrays);
         let cloud_map = self.clouds.view(gpu);
         let ao_view = self.ao.view(gpu, inputs.ao && world.bounds.is_some());
+        let [spec_env, spec_w] = self.ssr.outputs(gpu);
         let out = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
             ..Default::default()
@@ -525,7 +556,12 @@ impl LightingPasses {
             &pipes.sky_out_layout,
             &[tv(&gb.sky[0]), tv(&gb.sky[1])],
         );
-        let sky_in = sky_in_group(gpu, pipes, gb, [shafts_view, cloud_map, ao_view]);
+        let sky_in = sky_in_group(
+            gpu,
+            pipes,
+            gb,
+            [shafts_view, cloud_map, ao_view, spec_env, spec_w],
+        );
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let groups = (cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
         if inputs.env.is_some() {
@@ -553,12 +589,13 @@ impl LightingPasses {
 }
 
 /// Group 1 of the lighting pass: the sky pass's outputs, the shafts'
-/// image, the clouds' shadow map and the AO image.
+/// image, the clouds' shadow map, the AO image and the sky's specular term
+/// and weight for the ssr pass.
 fn sky_in_group(
     gpu: &Gpu,
     pipes: &Pipelines,
     gb: &GBuffer,
-    [shafts_view, cloud_map, ao_view]: [&wgpu::TextureView; 3],
+    [shafts_view, cloud_map, ao_view, spec_env, spec_w]: [&wgpu::TextureView; 5],
 ) -> wgpu::BindGroup {
     let tv = wgpu::BindingResource::TextureView;
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -584,6 +621,14 @@ fn sky_in_group(
             wgpu::BindGroupEntry {
                 binding: 5,
                 resource: tv(ao_view),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: tv(spec_env),
+            },
+            wgpu::BindGroupEntry {
+                binding: 7,
+                resource: tv(spec_w),
             },
         ],
     })

@@ -82,6 +82,12 @@ struct CellPart {
 // The ao pass's bent normal (xyz) and AO (w); a 1 × 1 stand-in when it
 // did not run.
 @group(1) @binding(5) var ao_in: texture_2d<f32>;
+// For the ssr pass (ssr.wgsl), when it runs (else 1 × 1 stand-ins, not
+// written): the sky's prefiltered specular term as it reaches the camera
+// (rgb, cd/m²) and its split-sum weight (F0·A + B) × the transmittances
+// to the camera (rgb).
+@group(1) @binding(6) var spec_env_out: texture_storage_2d<rgba32float, write>;
+@group(1) @binding(7) var spec_w_out: texture_storage_2d<rgba32float, write>;
 
 const SPECULAR_LEVELS: f32 = 5.0;
 
@@ -563,6 +569,8 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
     // The sky: the irradiance of the interleaved sets, averaged over the
     // N × N block around the pixel where the surface continues.
     var open = 1.0;
+    var spec_env = vec3<f32>(0.0);
+    var spec_w = vec3<f32>(0.0);
     if u.flags.x == 1u {
         let side = i32(u.flags.z);
         let lo = -(side / 2);
@@ -613,12 +621,16 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
             let fr = f0 + (max(vec3<f32>(1.0 - s.roughness), f0) - f0) * pow(1.0 - nv, 5.0);
             let spec = prefiltered(r, s.roughness) * (f0 * ab.x + ab.y) * spec_vis;
             l += ((1.0 - fr) * diffuse * e + spec) * sky_t;
+            spec_env = spec * sky_t;
+            spec_w = (f0 * ab.x + ab.y) * sky_t;
         }
     }
     l += m.emissive_texture.xyz;
     // The view ray: fog, then the air.
+    var through = vec3<f32>(1.0);
     if fog_on {
-        l = l * exp(-u.fog.x * fog_length(p));
+        through = vec3<f32>(exp(-u.fog.x * fog_length(p)));
+        l = l * through;
     }
     if u.shafts.w > 0.5 {
         // The refined image (godrays.wgsl `refine`) is the frame's own.
@@ -640,6 +652,11 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
         let ins = textureSampleLevel(air_in, lin, uvw, 0.0).rgb * u.scales.y * open;
         let tr = textureSampleLevel(air_t, lin, uvw, 0.0).rgb;
         l = l * tr + ins;
+        through *= tr;
+    }
+    if all(textureDimensions(spec_w_out) == vec2<u32>(w, h)) {
+        textureStore(spec_env_out, px, vec4<f32>(spec_env * through, 1.0));
+        textureStore(spec_w_out, px, vec4<f32>(spec_w * through, 1.0));
     }
     textureStore(out_tex, px, vec4<f32>(l, 1.0));
 }
