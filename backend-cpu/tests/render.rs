@@ -85,7 +85,7 @@ fn atmosphere_only_runs_one_pass_and_says_why_not_the_others() {
 #[test]
 fn clouds_without_a_layer_are_reported_and_later_effects_not_available() {
     let mut s = scene(
-        vec![Effect::Clouds, Effect::Ssr],
+        vec![Effect::Clouds, Effect::Gi],
         16,
         16,
         Projection::Fisheye,
@@ -101,8 +101,8 @@ fn clouds_without_a_layer_are_reported_and_later_effects_not_available() {
                 .unwrap()
                 .starts_with("no cloud layer in the scene")
     );
-    let ssr = out.passes.iter().find(|p| p.name == "ssr").unwrap();
-    assert!(!ssr.ran && ssr.reason.as_deref().unwrap().starts_with("not available"));
+    let gi = out.passes.iter().find(|p| p.name == "gi").unwrap();
+    assert!(!gi.ran && gi.reason.as_deref().unwrap().starts_with("not available"));
     // With a layer the pass runs.
     s.clouds.low.coverage = 0.6;
     let state = SkyState::at(&s).unwrap();
