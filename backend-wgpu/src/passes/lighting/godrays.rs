@@ -31,6 +31,9 @@ use crate::gpu::{bind_group, Gpu};
 pub struct Shafts {
     image: Option<((u32, u32), wgpu::TextureView)>,
     refined: Option<((u32, u32), wgpu::TextureView)>,
+    /// The pixels `refine` leaves to `march_list` (a count, then one u32
+    /// per pixel of the frame).
+    todo: Option<((u32, u32), wgpu::Buffer)>,
     /// Whether the last march refined its image (the lighting pass reads
     /// `refined` then).
     use_refined: bool,
@@ -144,12 +147,26 @@ impl Shafts {
         if refine && self.refined.as_ref().map(|i| i.0) != Some((w, h)) {
             self.refined = Some(((w, h), image(gpu, (w, h))));
         }
+        let pixels = u64::from(w) * u64::from(h);
+        if self.todo.as_ref().map(|t| t.0) != Some((w, h)) {
+            let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shafts to march"),
+                size: 4 * (1 + pixels),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            });
+            self.todo = Some(((w, h), buf));
+        }
         self.output(gpu, size);
         let stand_in = self
             .stand_in
             .get_or_insert_with(|| image(gpu, (1, 1)))
             .clone();
-        let (Some((_, low)), refined) = (self.image.as_ref(), self.refined.as_ref()) else {
+        let (Some((_, low)), refined, Some((_, todo))) = (
+            self.image.as_ref(),
+            self.refined.as_ref(),
+            self.todo.as_ref(),
+        ) else {
             return Err(RenderError::Device("the shafts' image is missing".into()));
         };
         let group = |out: &wgpu::TextureView, input: &wgpu::TextureView| {
@@ -169,19 +186,28 @@ impl Shafts {
                     inputs.cell_view.as_entire_binding(),
                     tv(inputs.visibility),
                     tv(input),
+                    todo.as_entire_binding(),
                 ],
             )
         };
         let mut enc = gpu.device.create_command_encoder(&Default::default());
+        enc.clear_buffer(todo, 0, Some(4));
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
             pass.set_pipeline(&pipes.godrays[0]);
             pass.set_bind_group(0, &group(low, &stand_in), &[]);
             pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
             if let Some((_, fine)) = refined.filter(|_| refine) {
+                let g = group(fine, low);
                 pass.set_pipeline(&pipes.godrays[1]);
-                pass.set_bind_group(0, &group(fine, low), &[]);
+                pass.set_bind_group(0, &g, &[]);
                 pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+                // One thread per pixel that may be left (64 a group, rows
+                // of at most 65 535 groups); the surplus returns at once.
+                let groups = pixels.div_ceil(64) as u32;
+                let x = groups.min(65_535);
+                pass.set_pipeline(&pipes.godrays[2]);
+                pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
             }
         }
         gpu.queue.submit([enc.finish()]);

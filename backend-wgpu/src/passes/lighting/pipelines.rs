@@ -52,11 +52,11 @@ pub struct Pipelines {
     /// Its group 0 (shade.wgsl's bindings 0–17).
     pub shade_layout: wgpu::BindGroupLayout,
     /// The light shafts' march and its full-resolution refinement
-    /// (godrays.wgsl `march`, `refine`).
-    pub godrays: [wgpu::ComputePipeline; 2],
+    /// (godrays.wgsl `march`, `refine`, `march_list`).
+    pub godrays: [wgpu::ComputePipeline; 3],
     /// Its group 0: uniforms, distance, material, shadow maps, comparison
     /// sampler, output, sky cells, their matrices and visibility maps, the
-    /// reduced image (`refine`).
+    /// reduced image and the pixels left to march (`refine`).
     pub godrays_layout: wgpu::BindGroupLayout,
     /// Trilinear, repeating (base colour).
     pub repeat: wgpu::Sampler,
@@ -244,8 +244,9 @@ impl Pipelines {
 
 /// The light shafts' march (`godrays.wgsl`) and its group 0: uniforms,
 /// distance, material, shadow maps, comparison sampler, output, sky cells,
-/// their matrices and visibility maps, the reduced image (`refine`).
-fn godrays_pipeline(gpu: &Gpu) -> ([wgpu::ComputePipeline; 2], wgpu::BindGroupLayout) {
+/// their matrices and visibility maps, the reduced image and the pixels
+/// left to march (`refine`).
+fn godrays_pipeline(gpu: &Gpu) -> ([wgpu::ComputePipeline; 3], wgpu::BindGroupLayout) {
     let dev = &gpu.device;
     let c = wgpu::ShaderStages::COMPUTE;
     let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
@@ -305,12 +306,18 @@ fn godrays_pipeline(gpu: &Gpu) -> ([wgpu::ComputePipeline; 2], wgpu::BindGroupLa
                 ),
             ),
             entry(9, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            entry(
+                10,
+                c,
+                buffer(wgpu::BufferBindingType::Storage { read_only: false }, false),
+            ),
         ],
     });
     let pl = gpu.pipeline_layout("godrays", &[&godrays_layout]);
     let godrays = [
         gpu.compute_pipeline(&pl, &rmod, "march"),
         gpu.compute_pipeline(&pl, &rmod, "refine"),
+        gpu.compute_pipeline(&pl, &rmod, "march_list"),
     ];
     (godrays, godrays_layout)
 }

@@ -39,6 +39,13 @@
 @group(0) @binding(5) var shafts_out: texture_storage_2d<rgba32float, write>;
 // The reduced image, for `refine` (a stand-in for `march`).
 @group(0) @binding(9) var shafts_in: texture_2d<f32>;
+// The pixels `refine` leaves to `march_list` (x | y << 16), their count
+// first (cleared before each frame's refine).
+struct Todo {
+    count: atomic<u32>,
+    px: array<u32>,
+}
+@group(0) @binding(10) var<storage, read_write> todo: Todo;
 // The march of frame pixel px's view ray in `steps` steps, with the start
 // offset jitter (a fraction of a step) and the sky cells' interleaved set
 // cell_set.
@@ -167,10 +174,24 @@ fn refine(@builtin(global_invocation_id) gid: vec3<u32>) {
             || abs(textureLoad(g_distance, rp, 0).x - dist) > REFINE_DEPTH * dist + 0.02;
     }
     if edge {
-        let k = interleaved(gid.xy);
-        let fine = max(u.shaft_q.x, 1u) * 2u;
-        textureStore(shafts_out, px, vec4<f32>(march_pixel(px, k.x, u32(k.y), fine), 1.0));
+        // Marched by `march_list`, whose threads all march (in `refine`,
+        // the threads beside a marching one would wait for it).
+        let i = atomicAdd(&todo.count, 1u);
+        todo.px[i] = gid.x | (gid.y << 16u);
     } else {
         textureStore(shafts_out, px, gather_shafts(px, dist, w, h));
     }
+}
+
+@compute @workgroup_size(64)
+fn march_list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = gid.x + gid.y * groups.x * 64u;
+    if i >= atomicLoad(&todo.count) {
+        return;
+    }
+    let c = todo.px[i];
+    let q = vec2<u32>(c & 0xffffu, c >> 16u);
+    let k = interleaved(q);
+    let fine = max(u.shaft_q.x, 1u) * 2u;
+    textureStore(shafts_out, vec2<i32>(q), vec4<f32>(march_pixel(vec2<i32>(q), k.x, u32(k.y), fine), 1.0));
 }
