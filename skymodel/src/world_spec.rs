@@ -267,13 +267,16 @@ impl GodraysMethod {
 
 /// Light shafts: the fog's single scattering of the Sun, Moon and sky
 /// (`lighting.godrays`).
+///
+/// The defaults depend on the method ([`GodraysSettings::of`]): a key left
+/// out takes the default of the method the object names.
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields, default)]
+#[serde(from = "GodraysKeys")]
 pub struct GodraysSettings {
     /// The method (default `toth`).
     pub method: GodraysMethod,
-    /// March steps per view ray, in [1, 512] (default 32); `froxel`: the
-    /// volume's depth slices.
+    /// March steps per view ray, in [1, 512] (default 48); `froxel`: the
+    /// volume's depth slices (default 32).
     pub steps: u32,
     /// Interleaving: N × N start offsets of the march, one per pixel of
     /// each N × N block of the marched image, averaged over the block where
@@ -288,7 +291,7 @@ pub struct GodraysSettings {
     pub resolution_divisor: u32,
     /// Sky cells (of the environment light's, `lighting.sky`) looked up per
     /// step for the sky's in-scattering, each in its visibility map, in
-    /// [0, 64] (default 8; 0 = no sky light in the fog). A step looks up
+    /// [0, 64] (default 16, `froxel` 8; 0 = no sky light in the fog). A step looks up
     /// every k-th cell, the next step the next ones, so that the march
     /// sweeps them all (`toth`; `froxel` the same per froxel along each
     /// column; the screen-space methods leave the sky's light in the fog
@@ -310,14 +313,58 @@ pub struct GodraysSettings {
 
 impl Default for GodraysSettings {
     fn default() -> Self {
+        GodraysSettings::of(GodraysMethod::Toth)
+    }
+}
+
+impl GodraysSettings {
+    /// A method's default quality. `toth`: 48 steps with 16 sky cells
+    /// each, 4 × 4 interleaved at half resolution — the optimised march
+    /// that issue 15 times against the full-resolution 128-step one
+    /// (`tests/tests/godrays_toth_speed.rs`); `froxel`: 32 slices with 8
+    /// sky cells per froxel, the cheap modern reference.
+    pub fn of(method: GodraysMethod) -> Self {
+        let (steps, sky_cells) = match method {
+            GodraysMethod::Froxel => (32, 8),
+            _ => (48, 16),
+        };
         GodraysSettings {
-            method: GodraysMethod::Toth,
-            steps: 32,
+            method,
+            steps,
             interleave: 4,
             resolution_divisor: 2,
-            sky_cells: 8,
+            sky_cells,
             samples: 64,
             temporal: 0.9,
+        }
+    }
+}
+
+/// `lighting.godrays` as written: each key optional, the rest from the
+/// named method's defaults.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct GodraysKeys {
+    method: Option<GodraysMethod>,
+    steps: Option<u32>,
+    interleave: Option<u32>,
+    resolution_divisor: Option<u32>,
+    sky_cells: Option<u32>,
+    samples: Option<u32>,
+    temporal: Option<f64>,
+}
+
+impl From<GodraysKeys> for GodraysSettings {
+    fn from(k: GodraysKeys) -> Self {
+        let d = GodraysSettings::of(k.method.unwrap_or(GodraysMethod::Toth));
+        GodraysSettings {
+            method: d.method,
+            steps: k.steps.unwrap_or(d.steps),
+            interleave: k.interleave.unwrap_or(d.interleave),
+            resolution_divisor: k.resolution_divisor.unwrap_or(d.resolution_divisor),
+            sky_cells: k.sky_cells.unwrap_or(d.sky_cells),
+            samples: k.samples.unwrap_or(d.samples),
+            temporal: k.temporal.unwrap_or(d.temporal),
         }
     }
 }
@@ -465,6 +512,17 @@ mod tests {
         let g: GodraysSettings =
             serde_json::from_str(r#"{"method": "froxel", "temporal": 0.5}"#).unwrap();
         assert!(g.method == GodraysMethod::Froxel && !g.method.screen_space());
+        // A key left out takes the named method's default.
+        assert_eq!((g.steps, g.sky_cells), (32, 8));
+        let g: GodraysSettings = serde_json::from_str(r#"{"sky_cells": 4}"#).unwrap();
+        assert_eq!(
+            (g.method, g.steps, g.sky_cells),
+            (GodraysMethod::Toth, 48, 4)
+        );
+        let g: GodraysSettings =
+            serde_json::from_str(r#"{"method": "froxel", "steps": 64}"#).unwrap();
+        assert_eq!((g.steps, g.sky_cells), (64, 8));
+        assert!(serde_json::from_str::<GodraysSettings>(r#"{"stepz": 3}"#).is_err());
         let mut l = LightingSpec::default();
         l.godrays.temporal = 0.99;
         let e = l.validate().unwrap_err();

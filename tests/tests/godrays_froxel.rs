@@ -123,10 +123,7 @@ fn froxel_shafts_hold_still_under_a_slowly_moving_sun() {
             })
             .collect()
     };
-    let q = GodraysSettings {
-        method: GodraysMethod::Froxel,
-        ..GodraysSettings::default()
-    };
+    let q = GodraysSettings::of(GodraysMethod::Froxel);
     let with = sequence(&c, &world, &offs, &mask, q);
     let without = sequence(
         &c,
@@ -188,10 +185,7 @@ fn froxel_against_mitsuba() {
         .ok()
         .and_then(|j| serde_json::from_str::<GodraysSettings>(&j).ok())
         .filter(|g| g.method == GodraysMethod::Froxel)
-        .unwrap_or(GodraysSettings {
-            method: GodraysMethod::Froxel,
-            ..GodraysSettings::default()
-        });
+        .unwrap_or(GodraysSettings::of(GodraysMethod::Froxel));
     let measured = |name: &str| -> [(f64, f64); 2] {
         match name {
             "sun_room_fog" => [(0.1376, 0.235), (0.1353, 0.234)],

@@ -77,14 +77,14 @@ fn light_shafts_against_mitsuba() {
     };
     // What this version achieves (lavapipe), with a margin: (error, FLIP)
     // per case and quality; the issue's goal for `toth` at its default
-    // quality is an error ≤ 10 % (measured 8.61 % and 2.14 %). Other
+    // quality is an error ≤ 10 % (measured 6.50 % and 1.69 %). Other
     // settings (HIMMEL_GODRAYS) are held to the default's bounds.
     let bounds = |name: &str, q: &str| -> (f64, f64) {
         match (name, q) {
-            ("sun_room_fog", "full resolution, 128 steps") => (0.075, 0.09),
-            ("sun_room_fog", _) => (0.11, 0.24),
-            ("atrium_fog", "full resolution, 128 steps") => (0.016, 0.025),
-            ("atrium_fog", _) => (0.03, 0.045),
+            ("sun_room_fog", "full resolution, 128 steps") => (0.10, 0.09),
+            ("sun_room_fog", _) => (0.085, 0.16),
+            ("atrium_fog", "full resolution, 128 steps") => (0.014, 0.025),
+            ("atrium_fog", _) => (0.022, 0.036),
             (other, _) => panic!("no bounds for case {other}"),
         }
     };
@@ -103,7 +103,7 @@ fn light_shafts_against_mitsuba() {
             .iter()
             .map(|(_, q)| case_scene(c, Some(*q)))
             .collect();
-        let times = alternating_least_ms(&scenes, &world, 4);
+        let times = wgpu_common::alternating_least_ms(&scenes, &world, 4);
         for ((q, settings), ms) in qualities.iter().zip(times) {
             let m = measure(c, &world, &off, *settings);
             println!(
@@ -121,26 +121,18 @@ fn light_shafts_against_mitsuba() {
             }
         }
         if let [(t_opt, e_opt), (t_full, e_full)] = runs[..] {
-            // Issue 15: the optimised march (interleaved, reduced
-            // resolution, bilateral upsample) at least 4× faster than the
-            // full-resolution 128-step march, at no more than 1.5× its
-            // error, in the same run. Measured at 1.35× (sun room: 8.49 %
-            // vs 6.27 %) and 1.49× (atrium: 1.87 % vs 1.25 %; the errors
-            // do not vary from run to run), 7.3–9.6× (sun room) and
-            // 4.2–4.6× (atrium) faster with this test alone, but 2.9–3.6×
-            // (atrium) in the whole binary, whose other tests load the 2
-            // cores lavapipe runs on: the speed bound (2×) guards against
-            // regressions, it is not the issue's 4×.
-            let (speed, ratio) = (t_full / t_opt, e_opt / e_full);
-            let max_ratio = 1.5;
+            // Printed, not bounded: issue 15's speed-up and error ratio are
+            // measured by `godrays_toth_speed` (its own binary, at twice
+            // this resolution). Here, at 160 × 90 and one ray per pixel
+            // centre, the full march errs by its pixels' edges against the
+            // reference's means over each pixel's area as much as by its
+            // march (sun room), and lavapipe's fixed cost per dispatch
+            // weighs on the optimised march's three.
             println!(
-                "{name}: the default quality is {speed:.1}× faster than the full march, error × {ratio:.2}"
+                "{name}: the default quality is {:.1}× faster than the full march, error × {:.2}",
+                t_full / t_opt,
+                e_opt / e_full
             );
-            if !(speed >= 2.0 && ratio <= max_ratio) {
-                failures.push(format!(
-                    "{name}: speed-up {speed:.2} (≥ 2), error ratio {ratio:.2} (≤ {max_ratio})"
-                ));
-            }
         }
     }
     assert!(failures.is_empty(), "{failures:#?}");
@@ -248,36 +240,6 @@ fn least_ms(s: &Scene, world: &himmel_world::World, frames: usize) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// The godrays pass's least time over `frames` frames of each scene, the
-/// scenes alternating frame by frame, each on a renderer of its own (a
-/// device each, so that each keeps its images; the shared renderer's lock
-/// keeps the binary's other tests off the device meanwhile), after a
-/// first frame each that builds pipelines and light maps.
-fn alternating_least_ms(scenes: &[Scene], world: &himmel_world::World, frames: usize) -> Vec<f64> {
-    let _device = wgpu_common::gpu();
-    let state = SkyState::at(&scenes[0]).unwrap();
-    let mut renderers: Vec<_> = scenes
-        .iter()
-        .map(|_| {
-            let mut r = himmel_wgpu::WgpuRenderer::new(None).unwrap();
-            r.set_world(world);
-            r
-        })
-        .collect();
-    let mut least = vec![f64::INFINITY; scenes.len()];
-    for frame in 0..=frames {
-        for ((r, s), t) in renderers.iter_mut().zip(scenes).zip(&mut least) {
-            let out = r.render(s, &state).unwrap();
-            let p = out.passes.iter().find(|p| p.name == "godrays").unwrap();
-            assert!(p.ran, "{p:?}");
-            if frame > 0 {
-                *t = t.min(p.ms.unwrap_or(f64::NAN));
-            }
-        }
-    }
-    least
-}
-
 /// Issue 15: `sousa`'s time against `mitchell`'s at equal total taps (63
 /// per texel; `sousa` 3 × 21) and equal requested quality (full
 /// resolution), from `--stats`' godrays ms (the least of 8 frames each,
@@ -308,7 +270,9 @@ fn sousa_against_mitchell_at_equal_taps() {
         s.effects = vec![Effect::Sun, Effect::World, Effect::Shadows, Effect::Godrays];
         s
     };
-    let [tm, ts] = alternating_least_ms(&[scene(mitchell), scene(sousa)], &world, 8)[..] else {
+    let [tm, ts] =
+        wgpu_common::alternating_least_ms(&[scene(mitchell), scene(sousa)], &world, 8)[..]
+    else {
         panic!("two times")
     };
     let ratio = ts / tm;

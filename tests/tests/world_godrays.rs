@@ -128,10 +128,7 @@ fn horizontal_view_through_the_layer_matches_the_closed_form() {
             * (-st * (30.0 - EYE_Y) / h.sin()).exp()
             * (1.0 - (-st * WALL_M).exp())
             / st;
-        let froxel = GodraysSettings {
-            method: GodraysMethod::Froxel,
-            ..GodraysSettings::default()
-        };
+        let froxel = GodraysSettings::of(GodraysMethod::Froxel);
         for (name, q) in [
             ("full 128 steps", full),
             ("default", GodraysSettings::default()),

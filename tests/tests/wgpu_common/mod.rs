@@ -223,3 +223,53 @@ pub fn same_peaks_above(name: &str, c: &HdrImage, g: &HdrImage, k: f32, min: usi
     );
     assert_eq!(same, n, "{name}");
 }
+
+/// The godrays pass's least time over `frames` frames of each scene, the
+/// scenes alternating frame by frame, each on a renderer of its own (a
+/// device each, so that each keeps its images; the shared renderer's lock
+/// keeps the binary's other tests off the device meanwhile), after a
+/// first frame each that builds pipelines and light maps; with each
+/// scene's last frame.
+pub fn alternating_godrays(
+    scenes: &[Scene],
+    world: &himmel_world::World,
+    frames: usize,
+) -> Vec<(f64, himmel_skymodel::RenderOutput)> {
+    let _device = gpu();
+    let state = SkyState::at(&scenes[0]).unwrap();
+    let mut renderers: Vec<_> = scenes
+        .iter()
+        .map(|_| {
+            let mut r = WgpuRenderer::new(None).unwrap();
+            r.set_world(world);
+            r
+        })
+        .collect();
+    let mut least = vec![f64::INFINITY; scenes.len()];
+    let mut last = Vec::new();
+    for frame in 0..=frames {
+        last.clear();
+        for ((r, s), t) in renderers.iter_mut().zip(scenes).zip(&mut least) {
+            let out = r.render(s, &state).unwrap();
+            let p = out.passes.iter().find(|p| p.name == "godrays").unwrap();
+            assert!(p.ran, "{p:?}");
+            if frame > 0 {
+                *t = t.min(p.ms.unwrap_or(f64::NAN));
+            }
+            last.push(out);
+        }
+    }
+    least.into_iter().zip(last).collect()
+}
+
+/// The times alone of `alternating_godrays`.
+pub fn alternating_least_ms(
+    scenes: &[Scene],
+    world: &himmel_world::World,
+    frames: usize,
+) -> Vec<f64> {
+    alternating_godrays(scenes, world, frames)
+        .into_iter()
+        .map(|(t, _)| t)
+        .collect()
+}

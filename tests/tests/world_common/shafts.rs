@@ -70,10 +70,16 @@ pub struct Measured {
 
 /// The added radiance of the render `on` against the reference.
 pub fn measure_output(c: &Value, on: &RenderOutput, off: &RenderOutput) -> Measured {
-    let name = c["name"].as_str().unwrap();
     let stat: &PassStat = on.passes.iter().find(|p| p.name == "godrays").unwrap();
     assert!(stat.ran, "{stat:?}");
-    let added = RgbImage {
+    let mut m = measure_added(c, &added_radiance(on, off), 1);
+    m.ms = stat.ms.unwrap_or(f64::NAN);
+    m
+}
+
+/// The godrays pass's added radiance: `on` minus `off`.
+pub fn added_radiance(on: &RenderOutput, off: &RenderOutput) -> RgbImage {
+    RgbImage {
         width: on.image.width,
         height: on.image.height,
         pixels: on
@@ -83,15 +89,43 @@ pub fn measure_output(c: &Value, on: &RenderOutput, off: &RenderOutput) -> Measu
             .zip(&off.image.pixels)
             .map(|(a, b)| [0, 1, 2].map(|k| a[k] - b[k]))
             .collect(),
-    };
+    }
+}
+
+/// The mean of each `k` × `k` block: a render at `k` times the
+/// reference's resolution as the reference's pixels (each the mean over
+/// its pixel's area, as `tools/godrays_reference.py` samples them).
+pub fn box_reduce(img: &RgbImage, k: usize) -> RgbImage {
+    let (w, h) = (img.width / k, img.height / k);
+    RgbImage::from_fn(w, h, |x, y| {
+        let mut s = [0.0f32; 3];
+        for dy in 0..k {
+            for dx in 0..k {
+                let p = img.pixels[(y * k + dy) * img.width + x * k + dx];
+                for c in 0..3 {
+                    s[c] += p[c] / (k * k) as f32;
+                }
+            }
+        }
+        s
+    })
+}
+
+/// An added-radiance image at `k` times the reference's resolution
+/// against the reference (`ms` left NaN).
+pub fn measure_added(c: &Value, added: &RgbImage, k: usize) -> Measured {
+    let name = c["name"].as_str().unwrap();
     if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
-        let p = std::path::Path::new(&d).join(format!("{name}_added.exr"));
+        let p = std::path::Path::new(&d).join(format!("{name}_added_{k}.exr"));
         let img = himmel_skymodel::HdrImage {
+            width: added.width,
+            height: added.height,
             pixels: added.pixels.clone(),
-            ..on.image.clone()
+            valid: vec![true; added.pixels.len()],
         };
         himmel_cpu::output::write_exr(&p, &img).unwrap();
     }
+    let added = box_reduce(added, k);
     let dir = root().join("tests/fixtures/godrays_ref");
     let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
     let mask = mask_channel(
@@ -105,6 +139,6 @@ pub fn measure_output(c: &Value, on: &RenderOutput, off: &RenderOutput) -> Measu
             &masked(&reference, &mask),
             Some(&mask),
         ),
-        ms: stat.ms.unwrap_or(f64::NAN),
+        ms: f64::NAN,
     }
 }

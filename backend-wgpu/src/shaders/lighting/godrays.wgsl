@@ -47,9 +47,9 @@ struct Todo {
 }
 @group(0) @binding(10) var<storage, read_write> todo: Todo;
 // The march of frame pixel px's view ray in `steps` steps, with the start
-// offset jitter (a fraction of a step) and the sky cells' interleaved set
-// cell_set.
-fn march_pixel(px: vec2<i32>, jitter: f32, cell_set: u32, steps: u32) -> vec3<f32> {
+// offset jitter (a fraction of a step), the sky cells' interleaved set
+// cell_set and sky_per_step of its cells looked up per step.
+fn march_pixel(px: vec2<i32>, jitter: f32, cell_set: u32, steps: u32, sky_per_step: u32) -> vec3<f32> {
     let w = u32(u.right.w);
     let h = u32(u.up.w);
     let dist = textureLoad(g_distance, px, 0).x;
@@ -76,7 +76,6 @@ fn march_pixel(px: vec2<i32>, jitter: f32, cell_set: u32, steps: u32) -> vec3<f3
     var sun_sum = 0.0;
     var moon_sum = 0.0;
     var sky_sum = vec3<f32>(0.0);
-    let sky_per_step = u.shaft_q.w;
     let sky_on = u.flags.x == 1u && u.counts.x > 0u && sky_per_step > 0u;
     let side = max(u.flags.z, 1u);
     let stride = clamp((u.counts.x + u.flags.w + sky_per_step - 1u) / max(sky_per_step, 1u), 1u, steps);
@@ -137,7 +136,7 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let k = interleaved(gid.xy);
-    textureStore(shafts_out, q, vec4<f32>(march_pixel(px, k.x, u32(k.y), max(u.shaft_q.x, 1u)), 0.0));
+    textureStore(shafts_out, q, vec4<f32>(march_pixel(px, k.x, u32(k.y), max(u.shaft_q.x, 1u), u.shaft_q.w), 0.0));
 }
 
 // `refine` (reduced images only): the full-resolution image of the
@@ -147,7 +146,8 @@ fn march(@builtin(global_invocation_id) gid: vec3<u32>) {
 // REFINE_DEPTH of it, plus 2 cm) — where the reduced image cannot say what
 // the pixel's own ray sees. There the pixel's view ray is marched itself,
 // in twice the steps (one start offset instead of the gather's N²), so
-// that the edges stay sharp.
+// that the edges stay sharp, with half the sky cells a step (the sky's
+// light in the fog varies slowly; a texel's share of lookups).
 const REFINE_DEPTH: f32 = 0.06;
 
 @compute @workgroup_size(8, 8)
@@ -193,5 +193,5 @@ fn march_list(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgr
     let q = vec2<u32>(c & 0xffffu, c >> 16u);
     let k = interleaved(q);
     let fine = max(u.shaft_q.x, 1u) * 2u;
-    textureStore(shafts_out, vec2<i32>(q), vec4<f32>(march_pixel(vec2<i32>(q), k.x, u32(k.y), fine), 1.0));
+    textureStore(shafts_out, vec2<i32>(q), vec4<f32>(march_pixel(vec2<i32>(q), k.x, u32(k.y), fine, (u.shaft_q.w + 1u) / 2u), 1.0));
 }
