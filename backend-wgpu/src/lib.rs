@@ -56,6 +56,7 @@ pub use frame::{GpuFrame, TARGET_FORMAT};
 pub use gpu::{Timing, WgpuError};
 pub use passes::lighting::ao::AoImage;
 pub use passes::lighting::ssr::SsrImage;
+pub use passes::lighting::temporal::TemporalImage;
 pub use passes::luts::{self as luts, LutSource};
 pub use passes::moon::moon_uniforms;
 pub use passes::points::{point_lists, quad_scale, PointLists, PointMethod, POINT_TILE};
@@ -623,6 +624,13 @@ impl WgpuRenderer {
     /// the `ssr` pass (`None` before the first).
     pub fn ssr_image(&self) -> Result<Option<SsrImage>, RenderError> {
         self.lighting.ssr_image(&self.gpu)
+    }
+
+    /// The temporal filter's distance and frame count per pixel after the
+    /// last world frame that ran the `temporal` pass (`None` before the
+    /// first).
+    pub fn temporal_image(&self) -> Result<Option<TemporalImage>, RenderError> {
+        self.lighting.temporal_image(&self.gpu)
     }
 
     /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H

@@ -235,7 +235,7 @@ fn uniforms(cam: &WorldCamera, s: &SsrSettings, levels: u32, prev: Option<Mat4>)
             s.max_roughness as f32,
             s.thickness_m as f32,
             s.edge_fade as f32,
-            0.0,
+            cam.frame as f32,
         ],
         q: [
             s.samples.max(1),

@@ -32,7 +32,8 @@ struct Ssr {
     up: vec4<f32>,
     // The history's view-projection (world → clip).
     prev_view_proj: mat4x4<f32>,
-    // max roughness, thickness (m), edge fade, 0.
+    // max roughness, thickness (m), edge fade, the frame's index in a
+    // temporal run (turns the noise).
     params: vec4<f32>,
     // samples, max steps, Hi-Z levels, 1 when the history is read.
     q: vec4<u32>,
@@ -137,8 +138,10 @@ fn radical_inverse(i: u32) -> f32 {
     return f32(reverseBits(i)) * 2.3283064365386963e-10;
 }
 
-// Interleaved gradient noise (Jimenez 2014).
-fn ign(p: vec2<f32>) -> f32 {
+// Interleaved gradient noise (Jimenez 2014), moved 5.588238 px per frame
+// of a temporal run.
+fn ign(q: vec2<f32>) -> f32 {
+    let p = q + 5.588238 * u.params.w;
     return fract(52.9829189 * fract(0.06711056 * p.x + 0.00583715 * p.y));
 }
 
