@@ -417,7 +417,7 @@ impl WgpuRenderer {
             for s in stats.iter_mut() {
                 match s.name.as_str() {
                     "world" => s.ms = Some(world_ms),
-                    "shadows" | "godrays" | "ao" | "ssr" => {
+                    "shadows" | "godrays" | "ao" | "ssr" | "temporal" => {
                         if let Some(w) = world_stats.iter().find(|w| w.name == s.name) {
                             *s = w.clone();
                         }
@@ -425,11 +425,12 @@ impl WgpuRenderer {
                     _ => {}
                 }
             }
-            stats.extend(
-                world_stats
-                    .into_iter()
-                    .filter(|s| !matches!(s.name.as_str(), "shadows" | "godrays" | "ao" | "ssr")),
-            );
+            stats.extend(world_stats.into_iter().filter(|s| {
+                !matches!(
+                    s.name.as_str(),
+                    "shadows" | "godrays" | "ao" | "ssr" | "temporal"
+                )
+            }));
         }
         Ok(GpuFrame {
             texture: target,
@@ -547,7 +548,12 @@ impl WgpuRenderer {
                 }
                 // The world, its shadows, light shafts and ambient
                 // occlusion are drawn after the sky (world_frame.rs).
-                Effect::World | Effect::Shadows | Effect::Godrays | Effect::Ao | Effect::Ssr => {}
+                Effect::World
+                | Effect::Shadows
+                | Effect::Godrays
+                | Effect::Ao
+                | Effect::Ssr
+                | Effect::Temporal => {}
                 other => {
                     // `--backend auto` then falls back to the CPU.
                     return Err(RenderError::Unavailable(Unavailable::PassNotPorted(other)));

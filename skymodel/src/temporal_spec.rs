@@ -58,9 +58,24 @@ impl TemporalSettings {
     /// Checks every value against its documented range, naming the field.
     pub fn validate(&self) -> Result<(), SceneError> {
         for (f, v, lo, hi) in [
-            ("lighting.temporal.max_frames", self.max_frames as f64, 1.0, 256.0),
-            ("lighting.temporal.variance_gamma", self.variance_gamma, 0.25, 8.0),
-            ("lighting.temporal.depth_tolerance", self.depth_tolerance, 0.001, 1.0),
+            (
+                "lighting.temporal.max_frames",
+                self.max_frames as f64,
+                1.0,
+                256.0,
+            ),
+            (
+                "lighting.temporal.variance_gamma",
+                self.variance_gamma,
+                0.25,
+                8.0,
+            ),
+            (
+                "lighting.temporal.depth_tolerance",
+                self.depth_tolerance,
+                0.001,
+                1.0,
+            ),
         ] {
             check_range(f, v, lo, hi)?;
         }

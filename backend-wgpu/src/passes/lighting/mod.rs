@@ -219,7 +219,9 @@ impl LightingPasses {
         self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
         let mut cam = WorldCamera::new(&inputs.scene.camera);
         let q = &inputs.scene.lighting.temporal;
-        (cam.jitter, cam.frame) = self.temporal.begin(inputs.temporal, q, (cam.width, cam.height));
+        (cam.jitter, cam.frame) = self
+            .temporal
+            .begin(inputs.temporal, q, (cam.width, cam.height));
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
         stats.extend(self.ao_step(gpu, inputs, &cam)?);
         stats.push(self.visibility_step(gpu, inputs)?);
@@ -257,7 +259,10 @@ impl LightingPasses {
     }
 
     /// The temporal filter's distance and frame counts of the last frame.
-    pub fn temporal_image(&self, gpu: &Gpu) -> Result<Option<temporal::TemporalImage>, RenderError> {
+    pub fn temporal_image(
+        &self,
+        gpu: &Gpu,
+    ) -> Result<Option<temporal::TemporalImage>, RenderError> {
         self.temporal.read_back(gpu)
     }
 
@@ -288,7 +293,12 @@ impl LightingPasses {
             view_proj: vp.to_cols_array(),
             prev_view_proj: prev.to_cols_array(),
             eye: cam.eye.extend(1.0).to_array(),
-            size: [cam.width as f32, cam.height as f32, cam.jitter.x, cam.jitter.y],
+            size: [
+                cam.width as f32,
+                cam.height as f32,
+                cam.jitter.x,
+                cam.jitter.y,
+            ],
         };
         resources::gbuffer_pass(gpu, pipes, world, &gb, bytemuck::bytes_of(&camera), ground)?;
         self.gbuffer = Some(gb);

@@ -140,6 +140,7 @@ fn pipe(gpu: &Gpu) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
         storage(LIT),
         storage(LIT),
         storage(AUX),
+        f,
     ];
     let entries: Vec<wgpu::BindGroupLayoutEntry> = types
         .iter()
@@ -285,6 +286,7 @@ impl Temporal {
                 tv(&out),
                 tv(&img.colour_views[write]),
                 tv(&img.aux_views[write]),
+                tv(&gb.views[1]),
             ],
         );
         let mut enc = gpu.device.create_command_encoder(&Default::default());

@@ -93,12 +93,13 @@ impl WorldCamera {
             2.0 * self.jitter.x / self.width.max(1) as f32,
             -2.0 * self.jitter.y / self.height.max(1) as f32,
         );
-        Mat4::from_translation(Vec3::new(jx, jy, 0.0)) * Mat4::from_cols(
-            Vec4::new(sx, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, sy, 0.0, 0.0),
-            Vec4::new(0.0, 0.0, 0.0, -1.0),
-            Vec4::new(0.0, 0.0, NEAR_M, 0.0),
-        )
+        Mat4::from_translation(Vec3::new(jx, jy, 0.0))
+            * Mat4::from_cols(
+                Vec4::new(sx, 0.0, 0.0, 0.0),
+                Vec4::new(0.0, sy, 0.0, 0.0),
+                Vec4::new(0.0, 0.0, 0.0, -1.0),
+                Vec4::new(0.0, 0.0, NEAR_M, 0.0),
+            )
     }
 
     /// World → clip.

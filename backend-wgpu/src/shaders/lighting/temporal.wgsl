@@ -6,9 +6,13 @@
 //    motion in pixels with this frame's jitter taken out, gbuffer.wgsl);
 // 2. disocclusion: the surface point p (on this frame's jittered view ray)
 //    lies at e = |p − previous eye| from the previous eye; the history
-//    counts only where one of the 2 × 2 texels about x_prev kept a distance
-//    within depth_tolerance · e of it (the same surface), and its frame
-//    count n is that texel's;
+//    counts only where one of the 3 × 3 texels about x_prev kept a distance
+//    within (depth_tolerance + 2 θ / |n·v|) · e of it, θ a pixel's angle
+//    (the same surface: a plane seen at grazing incidence changes its
+//    distance by e θ / |n·v| over a pixel, and the samples of two frames
+//    lie up to a pixel or two apart; at an edge the jitter puts either
+//    surface in a pixel, and its neighbours keep the other), and its frame
+//    count n is the nearest texel's;
 // 3. the history's colour: Catmull–Rom over the 4 × 4 texels about x_prev
 //    (sharp under motion; exact at texel centres), clipped in YCoCg towards
 //    the mean of the 3 × 3 neighbourhood of this frame into the box
@@ -46,6 +50,7 @@ struct Temporal {
 @group(0) @binding(7) var out_tex: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(8) var out_colour: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(9) var out_aux: texture_storage_2d<rg32float, write>;
+@group(0) @binding(10) var g_normal: texture_2d<f32>;
 
 fn size() -> vec2<i32> {
     return vec2<i32>(i32(u.right.w), i32(u.up.w));
@@ -149,17 +154,20 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     var n = 0.0;
     let inside = all(x_prev >= vec2<f32>(0.0)) && all(x_prev <= vec2<f32>(s));
     if u.prev_eye.w > 0.5 && inside {
-        let p = u.eye.xyz + pixel_ray(px) * dist;
+        let ray = pixel_ray(px);
+        let p = u.eye.xyz + ray * dist;
         let e = length(p - u.prev_eye.xyz);
-        let t0 = vec2<i32>(floor(x_prev - 0.5));
-        var best = u.jitter.w * e;
-        for (var k = 0; k < 4; k++) {
-            let a = textureLoad(hist_aux, clamped(t0 + vec2<i32>(k & 1, k >> 1u)), 0);
-            let d = abs(a.x - e);
-            if a.x > 0.0 && d <= best {
-                best = d;
-                n = a.y;
-            }
+        let t0 = vec2<i32>(floor(x_prev));
+        let nv = abs(dot(normalize(textureLoad(g_normal, px, 0).xyz), ray));
+        let theta = 2.0 * u.eye.w / u.up.w;
+        let tol = (u.jitter.w + 2.0 * theta / max(nv, 0.02)) * e;
+        var same = false;
+        for (var k = 0; k < 9; k++) {
+            let a = textureLoad(hist_aux, clamped(t0 + vec2<i32>(k % 3 - 1, k / 3 - 1)), 0);
+            same = same || (a.x > 0.0 && abs(a.x - e) <= tol);
+        }
+        if same {
+            n = textureLoad(hist_aux, clamped(t0), 0).y;
         }
     }
     var out = cur;
