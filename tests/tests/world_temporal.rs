@@ -121,8 +121,8 @@ fn mean(images: &[RgbImage]) -> RgbImage {
     RgbImage::from_fn(w, h, |x, y| {
         let mut acc = [0.0f64; 3];
         for img in images {
-            for c in 0..3 {
-                acc[c] += img.pixels[y * w + x][c] as f64;
+            for (a, v) in acc.iter_mut().zip(img.pixels[y * w + x]) {
+                *a += v as f64;
             }
         }
         acc.map(|v| (v / n) as f32)
@@ -261,10 +261,7 @@ fn flicker(frames: &[(Scene, Frame)]) -> Vec<(f64, f64, usize)> {
         let ((s0, f0), (s1, f1)) = (&pair[0], &pair[1]);
         let (m0, m1) = (floor(s0, f0), floor(s1, f1));
         let mut rel = Vec::new();
-        for i in 0..w * h {
-            if !m1[i] {
-                continue;
-            }
+        for (i, _) in m1.iter().enumerate().filter(|(_, m)| **m) {
             let Some(p) = ground_point(s1, i % w, i / w) else {
                 continue;
             };

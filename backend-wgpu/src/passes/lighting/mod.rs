@@ -55,6 +55,7 @@ use env::EnvLight;
 use mesh::GpuWorld;
 use pipelines::{Pipelines, MATRIX_STRIDE};
 use resources::{GBuffer, LightMaps, ShadeTables};
+use temporal::TemporalImage;
 use view::{LightView, WorldCamera};
 
 /// The lighting uniforms (`Shade` in shade.wgsl).
@@ -219,9 +220,7 @@ impl LightingPasses {
         self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
         let mut cam = WorldCamera::new(&inputs.scene.camera);
         let q = &inputs.scene.lighting.temporal;
-        (cam.jitter, cam.frame) = self
-            .temporal
-            .begin(inputs.temporal, q, (cam.width, cam.height));
+        self.temporal.begin(inputs.temporal, q, &mut cam);
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
         stats.extend(self.ao_step(gpu, inputs, &cam)?);
         stats.push(self.visibility_step(gpu, inputs)?);
@@ -259,10 +258,7 @@ impl LightingPasses {
     }
 
     /// The temporal filter's distance and frame counts of the last frame.
-    pub fn temporal_image(
-        &self,
-        gpu: &Gpu,
-    ) -> Result<Option<temporal::TemporalImage>, RenderError> {
+    pub fn temporal_image(&self, gpu: &Gpu) -> Result<Option<TemporalImage>, RenderError> {
         self.temporal.read_back(gpu)
     }
 
@@ -293,12 +289,7 @@ impl LightingPasses {
             view_proj: vp.to_cols_array(),
             prev_view_proj: prev.to_cols_array(),
             eye: cam.eye.extend(1.0).to_array(),
-            size: [
-                cam.width as f32,
-                cam.height as f32,
-                cam.jitter.x,
-                cam.jitter.y,
-            ],
+            size: temporal::gbuffer_size(cam),
         };
         resources::gbuffer_pass(gpu, pipes, world, &gb, bytemuck::bytes_of(&camera), ground)?;
         self.gbuffer = Some(gb);

@@ -204,6 +204,13 @@ fn uniforms(cam: &WorldCamera, s: &TemporalSettings, prev_eye: Option<Vec3>) -> 
     }
 }
 
+/// The G-buffer camera's `size` (gbuffer.wgsl): the image's width and
+/// height, px, and the jitter the frame is drawn with.
+pub fn gbuffer_size(cam: &WorldCamera) -> [f32; 4] {
+    let (w, h) = (cam.width as f32, cam.height as f32);
+    [w, h, cam.jitter.x, cam.jitter.y]
+}
+
 fn extent((w, h): (u32, u32)) -> wgpu::Extent3d {
     wgpu::Extent3d {
         width: w,
@@ -213,11 +220,15 @@ fn extent((w, h): (u32, u32)) -> wgpu::Extent3d {
 }
 
 impl Temporal {
-    /// Before a frame of `size`: whether the pass runs (`on`); returns the
-    /// frame's jitter (px) and index in the run (both 0 when it does not
+    /// Before a frame of `cam`: whether the pass runs (`on`); sets the
+    /// camera's jitter (px) and index in the run (both 0 when it does not
     /// run, or on a run's first frame). A frame without the pass, or of
     /// another size, ends the run and drops the history.
-    pub fn begin(&mut self, on: bool, s: &TemporalSettings, size: (u32, u32)) -> (Vec2, u32) {
+    pub fn begin(&mut self, on: bool, s: &TemporalSettings, cam: &mut WorldCamera) {
+        (cam.jitter, cam.frame) = self.next(on, s, (cam.width, cam.height));
+    }
+
+    fn next(&mut self, on: bool, s: &TemporalSettings, size: (u32, u32)) -> (Vec2, u32) {
         if !on || self.images.as_ref().is_some_and(|i| i.size != size) {
             self.frame = 0;
             self.prev_eye = None;
@@ -408,13 +419,13 @@ mod tests {
         assert_eq!(std::mem::size_of::<TemporalUniforms>(), 7 * 16);
         let mut t = Temporal::default();
         // No history yet: unjittered; off: nothing.
-        assert_eq!(t.begin(true, &s, (8, 8)), (Vec2::ZERO, 0));
+        assert_eq!(t.next(true, &s, (8, 8)), (Vec2::ZERO, 0));
         t.prev_eye = Some(Vec3::ZERO);
         t.frame = 3;
-        assert_eq!(t.begin(true, &s, (8, 8)), (jitter(3), 3));
+        assert_eq!(t.next(true, &s, (8, 8)), (jitter(3), 3));
         let off = TemporalSettings { jitter: false, ..s };
-        assert_eq!(t.begin(true, &off, (8, 8)), (Vec2::ZERO, 3));
-        assert_eq!(t.begin(false, &s, (8, 8)), (Vec2::ZERO, 0));
+        assert_eq!(t.next(true, &off, (8, 8)), (Vec2::ZERO, 3));
+        assert_eq!(t.next(false, &s, (8, 8)), (Vec2::ZERO, 0));
         assert!(t.prev_eye.is_none());
     }
 }
