@@ -217,7 +217,7 @@ fn a_moved_box_leaves_no_ghost() {
     let d_after = plain[0].distance.clone();
     end_run(&mut r);
     r.set_world(&before);
-    let s = scene(eye, Some(TemporalSettings::default()));
+    let s = scene(eye, Some(settings()));
     let mut d_before = Vec::new();
     for _ in 0..16 {
         d_before = render(&mut r, &s).distance;
@@ -309,7 +309,7 @@ fn a_moving_camera_does_not_flicker() {
             })
             .collect()
     };
-    let filtered = flicker(&run(TemporalSettings::default()));
+    let filtered = flicker(&run(settings()));
     let plain = flicker(&run(unfiltered()));
     let worst = |v: &[(f64, f64, usize)]| v.iter().map(|p| p.0).fold(0.0, f64::max);
     let mean = |v: &[(f64, f64, usize)]| v.iter().map(|p| p.0).sum::<f64>() / v.len() as f64;
