@@ -408,6 +408,19 @@ mod tests {
         assert!(mean.abs().max_element() < 0.02, "{mean}");
     }
 
+    /// The Rust mirror has naga's layout of the WGSL `Temporal`.
+    #[test]
+    fn uniforms_mirror_the_wgsl_struct() {
+        use crate::uniforms::tests::{assert_wgsl_layout, fields};
+        let rust = fields!(
+            TemporalUniforms,
+            [eye, forward, right, up, prev_eye, jitter, q]
+        );
+        let wgsl = include_str!("../../shaders/lighting/temporal.wgsl");
+        let size = std::mem::size_of::<TemporalUniforms>();
+        assert_wgsl_layout(wgsl, "Temporal", size, &rust);
+    }
+
     #[test]
     fn uniforms_and_runs() {
         let cam = WorldCamera::new(&Camera::default());
