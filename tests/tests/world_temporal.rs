@@ -338,3 +338,27 @@ fn a_moving_camera_does_not_flicker() {
     assert!(worst(&filtered) <= 0.02, "{filtered:?}");
     assert!(mean(&filtered) < mean(&plain), "{filtered:?} vs {plain:?}");
 }
+
+/// A frame of another size ends the run: it starts unjittered, without
+/// history, and the history images follow the new size.
+#[test]
+fn a_new_size_starts_a_new_run() {
+    let mut r = wgpu_common::gpu();
+    r.set_world(&himmel_world::procedural::plane_and_boxes());
+    end_run(&mut r);
+    let mut s = scene([0.0, 1.5, 6.0], Some(TemporalSettings::default()));
+    let mut reasons = Vec::new();
+    for size in [(160, 90), (160, 90), (80, 45), (80, 45)] {
+        (s.camera.width, s.camera.height) = size;
+        reasons.push(render(&mut r, &s).reason);
+        let t = r.temporal_image().unwrap().unwrap();
+        assert_eq!((t.width, t.height), size);
+    }
+    assert!(reasons[0].starts_with("first frame"), "{reasons:?}");
+    assert!(
+        reasons[1].starts_with("frame 1: jitter (+0.000, -0.167) px"),
+        "{reasons:?}"
+    );
+    assert!(reasons[2].starts_with("first frame"), "{reasons:?}");
+    assert!(reasons[3].starts_with("frame 1:"), "{reasons:?}");
+}
