@@ -33,6 +33,11 @@ use crate::gpu::{bind_group, Gpu};
 /// coordinate then covers the pixel in 64 even steps).
 pub const JITTER_PERIOD: u32 = 64;
 
+/// Frames after which the noise turns repeat (`WorldCamera::frame` is the
+/// index modulo this): the shaders' per-frame offsets (5.588238 px a
+/// frame) stay exact in f32.
+pub const NOISE_PERIOD: u32 = 1024;
+
 /// The pass's uniforms (`Temporal` in temporal.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
@@ -246,7 +251,7 @@ impl Temporal {
         } else {
             Vec2::ZERO
         };
-        (self.jitter, self.frame)
+        (self.jitter, self.frame % NOISE_PERIOD)
     }
 
     /// Blends the lit `target` of the frame `cam` sees (its G-buffer `gb`)
@@ -440,5 +445,9 @@ mod tests {
         assert_eq!(t.next(true, &off, (8, 8)), (Vec2::ZERO, 3));
         assert_eq!(t.next(false, &s, (8, 8)), (Vec2::ZERO, 0));
         assert!(t.prev_eye.is_none());
+        // The noise index wraps; the jitter follows the run's own index.
+        t.prev_eye = Some(Vec3::ZERO);
+        t.frame = NOISE_PERIOD + 5;
+        assert_eq!(t.next(true, &s, (8, 8)), (jitter(NOISE_PERIOD + 5), 5));
     }
 }

@@ -38,8 +38,9 @@ pub struct WorldCamera {
     /// a point whose centred projection is P is drawn at P + jitter
     /// (`temporal.rs`; zero without the temporal pass).
     pub jitter: Vec2,
-    /// The frame's index in the temporal pass's run of frames (0 without
-    /// it): the noisy passes turn their per-pixel noise with it.
+    /// The frame's index in the temporal pass's run of frames, modulo
+    /// `temporal::NOISE_PERIOD` (0 without it): the noisy passes turn their
+    /// per-pixel noise with it.
     pub frame: u32,
 }
 
