@@ -56,6 +56,7 @@ pub use frame::{GpuFrame, TARGET_FORMAT};
 pub use gpu::{Timing, WgpuError};
 pub use passes::lighting::ao::AoImage;
 pub use passes::lighting::ssr::SsrImage;
+pub use passes::lighting::temporal::TemporalImage;
 pub use passes::luts::{self as luts, LutSource};
 pub use passes::moon::moon_uniforms;
 pub use passes::points::{point_lists, quad_scale, PointLists, PointMethod, POINT_TILE};
@@ -416,7 +417,7 @@ impl WgpuRenderer {
             for s in stats.iter_mut() {
                 match s.name.as_str() {
                     "world" => s.ms = Some(world_ms),
-                    "shadows" | "godrays" | "ao" | "ssr" => {
+                    "shadows" | "godrays" | "ao" | "ssr" | "temporal" => {
                         if let Some(w) = world_stats.iter().find(|w| w.name == s.name) {
                             *s = w.clone();
                         }
@@ -424,11 +425,12 @@ impl WgpuRenderer {
                     _ => {}
                 }
             }
-            stats.extend(
-                world_stats
-                    .into_iter()
-                    .filter(|s| !matches!(s.name.as_str(), "shadows" | "godrays" | "ao" | "ssr")),
-            );
+            stats.extend(world_stats.into_iter().filter(|s| {
+                !matches!(
+                    s.name.as_str(),
+                    "shadows" | "godrays" | "ao" | "ssr" | "temporal"
+                )
+            }));
         }
         Ok(GpuFrame {
             texture: target,
@@ -546,7 +548,12 @@ impl WgpuRenderer {
                 }
                 // The world, its shadows, light shafts and ambient
                 // occlusion are drawn after the sky (world_frame.rs).
-                Effect::World | Effect::Shadows | Effect::Godrays | Effect::Ao | Effect::Ssr => {}
+                Effect::World
+                | Effect::Shadows
+                | Effect::Godrays
+                | Effect::Ao
+                | Effect::Ssr
+                | Effect::Temporal => {}
                 other => {
                     // `--backend auto` then falls back to the CPU.
                     return Err(RenderError::Unavailable(Unavailable::PassNotPorted(other)));
@@ -623,6 +630,13 @@ impl WgpuRenderer {
     /// the `ssr` pass (`None` before the first).
     pub fn ssr_image(&self) -> Result<Option<SsrImage>, RenderError> {
         self.lighting.ssr_image(&self.gpu)
+    }
+
+    /// The temporal filter's distance and frame count per pixel after the
+    /// last world frame that ran the `temporal` pass (`None` before the
+    /// first).
+    pub fn temporal_image(&self) -> Result<Option<TemporalImage>, RenderError> {
+        self.lighting.temporal_image(&self.gpu)
     }
 
     /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H

@@ -223,6 +223,7 @@ impl WgpuRenderer {
             clouds: plan.clouds.as_ref(),
             ao: plan.runs(Effect::Ao),
             ssr: plan.runs(Effect::Ssr),
+            temporal: plan.runs(Effect::Temporal),
         };
         stats.extend(self.lighting.render(&self.gpu, &inputs, target)?);
         Ok(stats)

@@ -75,6 +75,7 @@ pub mod ssr_spec;
 pub mod stars;
 pub mod state;
 pub mod sun;
+pub mod temporal_spec;
 pub mod texture_sky;
 pub mod texture_spec;
 pub mod units;
@@ -89,6 +90,7 @@ pub use renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer, U
 pub use scene::{Effect, OverlaySpec, Scene, SceneError, StarParams};
 pub use ssr_spec::SsrSettings;
 pub use state::{SkyState, SunState};
+pub use temporal_spec::TemporalSettings;
 pub use texture_spec::SkyTextureSpec;
 pub use world_spec::{
     FogPhase, FogSpec, GodraysMethod, GodraysSettings, LightingSpec, ShadowFilter, WorldSpec,

@@ -50,11 +50,12 @@ pub enum Effect {
     /// Screen-space ambient occlusion of the sky's light on the world
     /// (`lighting.ao`).
     Ao,
-    /// Screen-space reflections (a later issue).
+    /// Screen-space reflections (`lighting.ssr`).
     Ssr,
     /// Dynamic global illumination (a later issue).
     Gi,
-    /// Temporal filtering (a later issue).
+    /// Temporal filtering: a jittered camera and the history of the
+    /// world's pixels, reprojected (`lighting.temporal`).
     Temporal,
 }
 
@@ -125,6 +126,7 @@ impl Effect {
                 | Effect::Godrays
                 | Effect::Ao
                 | Effect::Ssr
+                | Effect::Temporal
         )
     }
 

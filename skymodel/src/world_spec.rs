@@ -383,6 +383,8 @@ pub struct LightingSpec {
     pub ao: crate::ao_spec::AoSettings,
     /// Screen-space reflections ([`crate::ssr_spec`]).
     pub ssr: crate::ssr_spec::SsrSettings,
+    /// The temporal filter ([`crate::temporal_spec`]).
+    pub temporal: crate::temporal_spec::TemporalSettings,
 }
 
 impl LightingSpec {
@@ -437,6 +439,7 @@ impl LightingSpec {
             range(f, v, lo, hi)?;
         }
         self.ssr.validate()?;
+        self.temporal.validate()?;
         self.ao.validate()
     }
 }

@@ -155,7 +155,7 @@ fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
         forward: v4(cam.forward, cam.aspect),
         right: v4(cam.right, cam.width as f32),
         up: v4(cam.up, cam.height as f32),
-        params: [radius_m, 0.0, 0.0, 0.0],
+        params: [radius_m, 0.0, cam.jitter.x, cam.jitter.y],
         q: [
             match s.method {
                 AoMethod::Ssao => 0,
@@ -165,7 +165,7 @@ fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
             s.steps.max(1),
             s.samples.max(1),
         ],
-        q2: [s.blur_px, 0, 0, 0],
+        q2: [s.blur_px, cam.frame, 0, 0],
     }
 }
 

@@ -22,7 +22,10 @@
 //!    volume ([`froxel`], `froxel.wgsl`), which it adds;
 //! 6. **screen-space reflections** ([`ssr`], `ssr.wgsl`), when `ssr` runs
 //!    and a material of the world is smooth enough: a Hi-Z march of GGX
-//!    reflected rays that replaces the sky's specular term where they hit.
+//!    reflected rays that replaces the sky's specular term where they hit;
+//! 7. **temporal filter** ([`temporal`], `temporal.wgsl`), when `temporal`
+//!    runs: the world drawn through a jittered camera, blended with its
+//!    reprojected history.
 //!
 //! The sky's environment light itself ([`env::EnvLight`]) is built by the
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
@@ -37,6 +40,7 @@ pub mod pipelines;
 pub mod radial;
 pub mod resources;
 pub mod ssr;
+pub mod temporal;
 pub mod view;
 
 use std::time::Instant as Clock;
@@ -51,6 +55,7 @@ use env::EnvLight;
 use mesh::GpuWorld;
 use pipelines::{Pipelines, MATRIX_STRIDE};
 use resources::{GBuffer, LightMaps, ShadeTables};
+use temporal::TemporalImage;
 use view::{LightView, WorldCamera};
 
 /// The lighting uniforms (`Shade` in shade.wgsl).
@@ -74,6 +79,7 @@ pub struct ShadeUniforms {
     shafts: [f32; 4],
     shaft_q: [u32; 4],
     clouds: [f32; 4],
+    jitter: [f32; 4],
 }
 
 /// The G-buffer camera (`GCamera` in gbuffer.wgsl).
@@ -110,6 +116,8 @@ pub struct WorldInputs<'a> {
     /// Whether the ssr pass is requested (the plan's decision; it also
     /// needs a smooth enough material, [`LightingPasses::render`]).
     pub ssr: bool,
+    /// Whether the temporal pass runs (the plan's decision).
+    pub temporal: bool,
 }
 
 /// Why the shadow maps of the last frame still hold.
@@ -140,6 +148,7 @@ pub struct LightingPasses {
     radial: radial::Radial,
     froxel: froxel::Froxels,
     ssr: ssr::Reflections,
+    temporal: temporal::Temporal,
 }
 
 fn ms(t: Clock) -> f64 {
@@ -209,7 +218,9 @@ impl LightingPasses {
             return Err(RenderError::WorldMissing);
         }
         self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
-        let cam = WorldCamera::new(&inputs.scene.camera);
+        let mut cam = WorldCamera::new(&inputs.scene.camera);
+        let q = &inputs.scene.lighting.temporal;
+        self.temporal.begin(inputs.temporal, q, &mut cam);
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
         stats.extend(self.ao_step(gpu, inputs, &cam)?);
         stats.push(self.visibility_step(gpu, inputs)?);
@@ -234,6 +245,9 @@ impl LightingPasses {
                 Err(why) => stat("ssr", false, None, Some(why)),
             });
         }
+        if let Some(gb) = self.gbuffer.as_ref().filter(|_| inputs.temporal) {
+            stats.push(self.temporal.run(gpu, gb, &cam, q, target)?);
+        }
         Ok(stats)
     }
 
@@ -241,6 +255,11 @@ impl LightingPasses {
     /// ssr pass.
     pub fn ssr_image(&self, gpu: &Gpu) -> Result<Option<ssr::SsrImage>, RenderError> {
         self.ssr.read_back(gpu)
+    }
+
+    /// The temporal filter's distance and frame counts of the last frame.
+    pub fn temporal_image(&self, gpu: &Gpu) -> Result<Option<TemporalImage>, RenderError> {
+        self.temporal.read_back(gpu)
     }
 
     /// Step 1: the G-buffer (and the ground plane under the eye).
@@ -258,9 +277,10 @@ impl LightingPasses {
         if ground {
             world.place_ground(gpu, cam.eye);
         }
-        let vp = cam.view_projection();
-        let prev = self.prev_view_proj.unwrap_or(vp);
-        self.prev_view_proj = Some(vp);
+        // Drawn jittered; the motion is measured without it (gbuffer.wgsl).
+        let (vp, centred) = (cam.view_projection(), cam.unjittered().view_projection());
+        let prev = self.prev_view_proj.unwrap_or(centred);
+        self.prev_view_proj = Some(centred);
         let gb = match self.gbuffer.take() {
             Some(g) if g.size == (cam.width, cam.height) => g,
             _ => GBuffer::new(gpu, cam.width, cam.height),
@@ -269,7 +289,7 @@ impl LightingPasses {
             view_proj: vp.to_cols_array(),
             prev_view_proj: prev.to_cols_array(),
             eye: cam.eye.extend(1.0).to_array(),
-            size: [cam.width as f32, cam.height as f32, 0.0, 0.0],
+            size: temporal::gbuffer_size(cam),
         };
         resources::gbuffer_pass(gpu, pipes, world, &gb, bytemuck::bytes_of(&camera), ground)?;
         self.gbuffer = Some(gb);
@@ -744,6 +764,7 @@ fn shade_uniforms(
         shafts,
         shaft_q,
         clouds: cloud_uniform,
+        jitter: [cam.jitter.x, cam.jitter.y, cam.frame as f32, 0.0],
     }
 }
 

@@ -43,6 +43,7 @@ struct SsrUniforms {
     prev_view_proj: [f32; 16],
     params: [f32; 4],
     q: [u32; 4],
+    jitter: [f32; 4],
 }
 
 /// The reflections' confidence of the last frame, read back: per pixel
@@ -235,7 +236,7 @@ fn uniforms(cam: &WorldCamera, s: &SsrSettings, levels: u32, prev: Option<Mat4>)
             s.max_roughness as f32,
             s.thickness_m as f32,
             s.edge_fade as f32,
-            0.0,
+            cam.frame as f32,
         ],
         q: [
             s.samples.max(1),
@@ -243,6 +244,7 @@ fn uniforms(cam: &WorldCamera, s: &SsrSettings, levels: u32, prev: Option<Mat4>)
             levels.max(1),
             prev.is_some() as u32,
         ],
+        jitter: [cam.jitter.x, cam.jitter.y, 0.0, 0.0],
     }
 }
 
@@ -502,6 +504,6 @@ mod tests {
         assert_eq!(levels((160, 90)), 8);
         assert_eq!(levels((100, 20)), 7);
         assert_eq!(levels((1, 1)), 1);
-        assert_eq!(std::mem::size_of::<SsrUniforms>(), 10 * 16);
+        assert_eq!(std::mem::size_of::<SsrUniforms>(), 11 * 16);
     }
 }

@@ -5,7 +5,7 @@
 //! and the fixed views over the world from which the sky's visibility is
 //! sampled.
 
-use glam::{DVec3, Mat4, Vec3, Vec4};
+use glam::{DVec3, Mat4, Vec2, Vec3, Vec4};
 use himmel_skymodel::projection::scene_from_enu;
 use himmel_skymodel::Camera;
 use himmel_world::Aabb;
@@ -34,6 +34,14 @@ pub struct WorldCamera {
     pub width: u32,
     /// See `width`.
     pub height: u32,
+    /// The sub-pixel offset of this frame's image (px, x right, y down):
+    /// a point whose centred projection is P is drawn at P + jitter
+    /// (`temporal.rs`; zero without the temporal pass).
+    pub jitter: Vec2,
+    /// The frame's index in the temporal pass's run of frames, modulo
+    /// `temporal::NOISE_PERIOD` (0 without it): the noisy passes turn their
+    /// per-pixel noise with it.
+    pub frame: u32,
 }
 
 impl WorldCamera {
@@ -51,6 +59,16 @@ impl WorldCamera {
             aspect: width as f32 / height as f32,
             width,
             height,
+            jitter: Vec2::ZERO,
+            frame: 0,
+        }
+    }
+
+    /// The same camera without the jitter.
+    pub fn unjittered(&self) -> WorldCamera {
+        WorldCamera {
+            jitter: Vec2::ZERO,
+            ..*self
         }
     }
 
@@ -68,15 +86,21 @@ impl WorldCamera {
     /// View → clip: reversed Z with an infinite far plane (depth =
     /// [`NEAR_M`] / view depth); pixel (px, py) sees the direction
     /// forward + right·nx + up·ny with nx = (px − W/2)/(H/2)·tan, as the
-    /// sky's perspective projection.
+    /// sky's perspective projection; then moved by [`Self::jitter`].
     pub fn projection(&self) -> Mat4 {
         let (sx, sy) = (1.0 / (self.tan_half * self.aspect), 1.0 / self.tan_half);
-        Mat4::from_cols(
-            Vec4::new(sx, 0.0, 0.0, 0.0),
-            Vec4::new(0.0, sy, 0.0, 0.0),
-            Vec4::new(0.0, 0.0, 0.0, -1.0),
-            Vec4::new(0.0, 0.0, NEAR_M, 0.0),
-        )
+        // x' = x + t·w in clip space shifts the image by t in NDC (y up).
+        let (jx, jy) = (
+            2.0 * self.jitter.x / self.width.max(1) as f32,
+            -2.0 * self.jitter.y / self.height.max(1) as f32,
+        );
+        Mat4::from_translation(Vec3::new(jx, jy, 0.0))
+            * Mat4::from_cols(
+                Vec4::new(sx, 0.0, 0.0, 0.0),
+                Vec4::new(0.0, sy, 0.0, 0.0),
+                Vec4::new(0.0, 0.0, 0.0, -1.0),
+                Vec4::new(0.0, 0.0, NEAR_M, 0.0),
+            )
     }
 
     /// World → clip.

@@ -46,11 +46,11 @@ struct Ao {
     right: vec4<f32>,
     // xyz: up; w: height, px.
     up: vec4<f32>,
-    // R (m), 0, 0, 0.
+    // R (m), 0, the frame's jitter (px, x right, y down; temporal.rs).
     params: vec4<f32>,
     // Method (0 ssao, 1 gtao), slices, steps, samples.
     q: vec4<u32>,
-    // Blur half side (px), 0, 0, 0.
+    // Blur half side (px), the frame's index in a temporal run, 0, 0.
     q2: vec4<u32>,
 }
 
@@ -76,12 +76,13 @@ fn on_screen(q: vec2<i32>) -> bool {
     return all(q >= vec2<i32>(0)) && all(q < size());
 }
 
-// The view ray through the pixel position c (pixel centres at k + ½).
+// The view ray through the pixel position c (pixel centres at k + ½) of
+// the jittered image.
 fn ray_at(c: vec2<f32>) -> vec3<f32> {
     let h = a.up.w;
     let t = a.eye.w;
-    let nx = (c.x - 0.5 * a.right.w) / (0.5 * h) * t;
-    let ny = -(c.y - 0.5 * h) / (0.5 * h) * t;
+    let nx = (c.x - a.params.z - 0.5 * a.right.w) / (0.5 * h) * t;
+    let ny = -(c.y - a.params.w - 0.5 * h) / (0.5 * h) * t;
     return normalize(a.forward.xyz + a.right.xyz * nx + a.up.xyz * ny);
 }
 
@@ -96,12 +97,14 @@ fn project(x: vec3<f32>) -> vec3<f32> {
     let z = dot(d, a.forward.xyz);
     let h = a.up.w;
     let k = 0.5 * h / (a.eye.w * max(z, 1e-6));
-    return vec3<f32>(dot(d, a.right.xyz) * k + 0.5 * a.right.w, -dot(d, a.up.xyz) * k + 0.5 * h, z);
+    return vec3<f32>(dot(d, a.right.xyz) * k + 0.5 * a.right.w + a.params.z, -dot(d, a.up.xyz) * k + 0.5 * h + a.params.w, z);
 }
 
-// Interleaved gradient noise (Jimenez 2014), in [0, 1).
+// Interleaved gradient noise (Jimenez 2014), in [0, 1); moved by 5.588238
+// px per frame of a temporal run (his animated form).
 fn ign(q: vec2<u32>) -> f32 {
-    return fract(52.9829189 * fract(0.06711056 * f32(q.x) + 0.00583715 * f32(q.y)));
+    let f = vec2<f32>(q) + 5.588238 * f32(a.q2.y);
+    return fract(52.9829189 * fract(0.06711056 * f.x + 0.00583715 * f.y));
 }
 
 // The 4 × 4 Bayer (ordered-dither) rank of pixel q, in [0, 16).
@@ -120,7 +123,8 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     let v = normalize(a.eye.xyz - p);
     let slices = max(a.q.y, 1u);
     let steps = max(a.q.z, 1u);
-    let rot = (f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0;
+    // The slices' angles turn by the golden ratio per frame of a run.
+    let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(a.q2.y));
     let jit = ign(vec2<u32>(px));
     let centre = vec2<f32>(px) + 0.5;
     var vis = 0.0;

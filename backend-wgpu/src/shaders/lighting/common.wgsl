@@ -38,6 +38,9 @@ struct Shade {
     // The cloud-shadow map (cloud_shadow.rs): least corner x, z (m),
     // 1 / side (1/m), texels per side (0: no clouds).
     clouds: vec4<f32>,
+    // The frame's jitter (px, x right, y down; temporal.rs), its index in
+    // the temporal run (turns the per-pixel noise), 0.
+    jitter: vec4<f32>,
 }
 
 struct SkyCell {
@@ -78,10 +81,11 @@ fn inside(uv: vec2<f32>) -> bool {
     return all(uv >= vec2<f32>(0.0)) && all(uv <= vec2<f32>(1.0));
 }
 
-// The view ray through the centre of pixel q.
+// The view ray through pixel q's sample: its centre moved back by the
+// frame's jitter (the G-buffer is drawn jittered).
 fn pixel_ray(q: vec2<i32>, w: u32, h: u32) -> vec3<f32> {
     let t = u.eye.w;
-    let nx = (f32(q.x) + 0.5 - 0.5 * f32(w)) / (0.5 * f32(h)) * t;
-    let ny = -(f32(q.y) + 0.5 - 0.5 * f32(h)) / (0.5 * f32(h)) * t;
+    let nx = (f32(q.x) + 0.5 - u.jitter.x - 0.5 * f32(w)) / (0.5 * f32(h)) * t;
+    let ny = -(f32(q.y) + 0.5 - u.jitter.y - 0.5 * f32(h)) / (0.5 * f32(h)) * t;
     return normalize(u.forward.xyz + u.right.xyz * nx + u.up.xyz * ny);
 }

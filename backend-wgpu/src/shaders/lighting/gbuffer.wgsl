@@ -10,7 +10,8 @@ struct GCamera {
     prev_view_proj: mat4x4<f32>,
     // xyz: eye (world frame, m).
     eye: vec4<f32>,
-    // Image width, height, px.
+    // Image width, height, px; the jitter view_proj draws with (px, x
+    // right, y down; prev_view_proj has none).
     size: vec4<f32>,
 }
 
@@ -85,6 +86,7 @@ fn fs(v: VOut) -> GOut {
     o.material = v.material + 1u;
     let p = v.prev_clip.xy / v.prev_clip.w;
     let prev_px = vec2<f32>((p.x + 1.0) * 0.5 * cam.size.x, (1.0 - p.y) * 0.5 * cam.size.y);
-    o.velocity = v.clip.xy - prev_px;
+    // The surface's motion without this frame's jitter.
+    o.velocity = v.clip.xy - cam.size.zw - prev_px;
     return o;
 }

@@ -237,7 +237,8 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
 // A per-pixel rotation for the disk samples (interleaved gradient noise,
 // Jimenez 2014).
 fn rotation(px: vec2<u32>) -> f32 {
-    let f = vec2<f32>(px);
+    // Turned per frame of a temporal run (5.588238 px: Jimenez's step).
+    let f = vec2<f32>(px) + 5.588238 * u.jitter.z;
     return 2.0 * PI * fract(52.9829189 * fract(0.06711056 * f.x + 0.00583715 * f.y));
 }
 

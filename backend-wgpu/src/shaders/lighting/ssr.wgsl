@@ -32,10 +32,13 @@ struct Ssr {
     up: vec4<f32>,
     // The history's view-projection (world → clip).
     prev_view_proj: mat4x4<f32>,
-    // max roughness, thickness (m), edge fade, 0.
+    // max roughness, thickness (m), edge fade, the frame's index in a
+    // temporal run (turns the noise).
     params: vec4<f32>,
     // samples, max steps, Hi-Z levels, 1 when the history is read.
     q: vec4<u32>,
+    // xy: the frame's jitter (px, x right, y down; temporal.rs), 0, 0.
+    jitter: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> u: Ssr;
@@ -61,22 +64,26 @@ fn size() -> vec2<f32> {
     return vec2<f32>(u.right.w, u.up.w);
 }
 
-// The view ray through the centre of pixel q (as common.wgsl's).
+// The view ray through pixel q's jittered sample (as common.wgsl's).
 fn pixel_ray(q: vec2<i32>) -> vec3<f32> {
     let s = size();
     let t = u.eye.w;
-    let nx = (f32(q.x) + 0.5 - 0.5 * s.x) / (0.5 * s.y) * t;
-    let ny = -(f32(q.y) + 0.5 - 0.5 * s.y) / (0.5 * s.y) * t;
+    let nx = (f32(q.x) + 0.5 - u.jitter.x - 0.5 * s.x) / (0.5 * s.y) * t;
+    let ny = -(f32(q.y) + 0.5 - u.jitter.y - 0.5 * s.y) / (0.5 * s.y) * t;
     return normalize(u.forward.xyz + u.right.xyz * nx + u.up.xyz * ny);
 }
 
-// World point p on screen: pixel coordinates (centres at +0.5) and
-// d = 1 / view depth.
+// World point p on screen: pixel coordinates of the jittered image
+// (centres at +0.5) and d = 1 / view depth.
 fn to_screen(p: vec3<f32>) -> vec3<f32> {
     let v = p - u.eye.xyz;
     let z = dot(v, u.forward.xyz);
     let k = 0.5 * u.up.w / (z * u.eye.w);
-    return vec3<f32>(dot(v, u.right.xyz) * k + 0.5 * u.right.w, -dot(v, u.up.xyz) * k + 0.5 * u.up.w, 1.0 / z);
+    return vec3<f32>(
+        dot(v, u.right.xyz) * k + 0.5 * u.right.w + u.jitter.x,
+        -dot(v, u.up.xyz) * k + 0.5 * u.up.w + u.jitter.y,
+        1.0 / z,
+    );
 }
 
 @compute @workgroup_size(8, 8)
@@ -137,8 +144,10 @@ fn radical_inverse(i: u32) -> f32 {
     return f32(reverseBits(i)) * 2.3283064365386963e-10;
 }
 
-// Interleaved gradient noise (Jimenez 2014).
-fn ign(p: vec2<f32>) -> f32 {
+// Interleaved gradient noise (Jimenez 2014), moved 5.588238 px per frame
+// of a temporal run.
+fn ign(q: vec2<f32>) -> f32 {
+    let p = q + 5.588238 * u.params.w;
     return fract(52.9829189 * fract(0.06711056 * p.x + 0.00583715 * p.y));
 }
 
