@@ -25,17 +25,14 @@ use himmel_skymodel::renderer::PassStat;
 use himmel_skymodel::{AoMethod, AoSettings, RenderError};
 
 use super::resources::{texture, GBuffer};
-use super::view::WorldCamera;
+use super::view::{CameraBlock, WorldCamera};
 use crate::gpu::{bind_group, Gpu};
 
 /// The AO pass's uniforms (`Ao` in ao.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct AoUniforms {
-    eye: [f32; 4],
-    forward: [f32; 4],
-    right: [f32; 4],
-    up: [f32; 4],
+    cam: CameraBlock,
     params: [f32; 4],
     q: [u32; 4],
     q2: [u32; 4],
@@ -149,12 +146,8 @@ fn pipes(gpu: &Gpu) -> AoPipes {
 
 /// The uniforms of a frame seen by `cam` with radius `radius_m`.
 fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
-    let v4 = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
     AoUniforms {
-        eye: v4(cam.eye, cam.tan_half),
-        forward: v4(cam.forward, cam.aspect),
-        right: v4(cam.right, cam.width as f32),
-        up: v4(cam.up, cam.height as f32),
+        cam: cam.block(),
         params: [radius_m, 0.0, cam.jitter.x, cam.jitter.y],
         q: [
             match s.method {

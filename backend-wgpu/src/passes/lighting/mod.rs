@@ -220,7 +220,13 @@ impl LightingPasses {
         self.pipes.get_or_insert_with(|| Pipelines::new(gpu));
         let mut cam = WorldCamera::new(&inputs.scene.camera);
         let q = &inputs.scene.lighting.temporal;
-        self.temporal.begin(inputs.temporal, q, &mut cam);
+        let dir = |l: &Option<DirectLight>| l.map(|l| l.dir_world().as_vec3().normalize());
+        let run = temporal::RunKey::of(
+            inputs.scene,
+            dir(&inputs.direct.sun),
+            dir(&inputs.direct.moon),
+        );
+        self.temporal.begin(inputs.temporal, q, &mut cam, run);
         let mut stats = vec![self.gbuffer_step(gpu, inputs.scene, &cam)?];
         stats.extend(self.ao_step(gpu, inputs, &cam)?);
         stats.push(self.visibility_step(gpu, inputs)?);

@@ -29,17 +29,14 @@ use himmel_skymodel::renderer::PassStat;
 use himmel_skymodel::{RenderError, SsrSettings};
 
 use super::resources::{texture, GBuffer};
-use super::view::WorldCamera;
+use super::view::{CameraBlock, WorldCamera};
 use crate::gpu::{bind_group, Gpu};
 
 /// The pass's uniforms (`Ssr` in ssr.wgsl).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct SsrUniforms {
-    eye: [f32; 4],
-    forward: [f32; 4],
-    right: [f32; 4],
-    up: [f32; 4],
+    cam: CameraBlock,
     prev_view_proj: [f32; 16],
     params: [f32; 4],
     q: [u32; 4],
@@ -225,12 +222,8 @@ fn images(gpu: &Gpu, size: (u32, u32)) -> Images {
 /// The uniforms of a frame seen by `cam`; `prev`: the history's
 /// view-projection when it is read.
 fn uniforms(cam: &WorldCamera, s: &SsrSettings, levels: u32, prev: Option<Mat4>) -> SsrUniforms {
-    let v4 = |v: glam::Vec3, w: f32| [v.x, v.y, v.z, w];
     SsrUniforms {
-        eye: v4(cam.eye, cam.tan_half),
-        forward: v4(cam.forward, cam.aspect),
-        right: v4(cam.right, cam.width as f32),
-        up: v4(cam.up, cam.height as f32),
+        cam: cam.block(),
         prev_view_proj: prev.unwrap_or(Mat4::IDENTITY).to_cols_array(),
         params: [
             s.max_roughness as f32,

@@ -26,7 +26,7 @@ use himmel_skymodel::renderer::PassStat;
 use himmel_skymodel::{RenderError, TemporalSettings};
 
 use super::resources::{texture, GBuffer};
-use super::view::WorldCamera;
+use super::view::{CameraBlock, WorldCamera};
 use crate::gpu::{bind_group, Gpu};
 
 /// Frames after which the jitter sequence repeats (2⁶: the Halton base-2
@@ -42,10 +42,7 @@ pub const NOISE_PERIOD: u32 = 1024;
 #[repr(C)]
 #[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
 struct TemporalUniforms {
-    eye: [f32; 4],
-    forward: [f32; 4],
-    right: [f32; 4],
-    up: [f32; 4],
+    cam: CameraBlock,
     prev_eye: [f32; 4],
     jitter: [f32; 4],
     q: [u32; 4],
@@ -90,6 +87,52 @@ pub struct Temporal {
     jitter: Vec2,
     /// The eye of the frame in the history (`None`: no history).
     prev_eye: Option<Vec3>,
+    /// What the last frame's scene and lights were.
+    last_run: Option<RunKey>,
+}
+
+/// The Sun's or Moon's largest step between two frames of one run, degrees
+/// (the Sun moves 0.1° in about 24 s): a time-lapse whose light jumps
+/// further starts a new run each frame, its frames each as rendered.
+pub const LIGHT_STEP_DEG: f32 = 0.1;
+
+/// What a frame must share with the last one for the history to hold: the
+/// scene apart from its time and camera (what a sequence steps), and the
+/// Sun's and Moon's directions within [`LIGHT_STEP_DEG`]. Another scene
+/// on the same renderer starts a new run rather than blend with the last.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunKey {
+    scene: himmel_skymodel::Scene,
+    lights: [Option<Vec3>; 2],
+}
+
+impl RunKey {
+    /// The key of a frame of `scene` lit from `sun` and `moon` (unit
+    /// vectors towards them; `None`: not lighting the world).
+    pub fn of(scene: &himmel_skymodel::Scene, sun: Option<Vec3>, moon: Option<Vec3>) -> Self {
+        let mut scene = scene.clone();
+        scene.time = Default::default();
+        scene.camera = Default::default();
+        RunKey {
+            scene,
+            lights: [sun, moon],
+        }
+    }
+
+    /// Whether a frame of `self` continues a run whose last frame was `last`.
+    pub fn continues(&self, last: &RunKey) -> bool {
+        let cos_step = LIGHT_STEP_DEG.to_radians().cos();
+        self.scene == last.scene
+            && self
+                .lights
+                .iter()
+                .zip(&last.lights)
+                .all(|(a, b)| match (a, b) {
+                    (Some(a), Some(b)) => a.dot(*b) >= cos_step,
+                    (None, None) => true,
+                    _ => false,
+                })
+    }
 }
 
 /// The radical inverse of `i` in `base`: the Halton sequence's coordinate.
@@ -194,10 +237,7 @@ fn images(gpu: &Gpu, size: (u32, u32)) -> Images {
 fn uniforms(cam: &WorldCamera, s: &TemporalSettings, prev_eye: Option<Vec3>) -> TemporalUniforms {
     let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
     TemporalUniforms {
-        eye: v4(cam.eye, cam.tan_half),
-        forward: v4(cam.forward, cam.aspect),
-        right: v4(cam.right, cam.width as f32),
-        up: v4(cam.up, cam.height as f32),
+        cam: cam.block(),
         prev_eye: prev_eye.map_or([0.0; 4], |e| v4(e, 1.0)),
         jitter: [
             cam.jitter.x,
@@ -229,7 +269,17 @@ impl Temporal {
     /// camera's jitter (px) and index in the run (both 0 when it does not
     /// run, or on a run's first frame). A frame without the pass, or of
     /// another size, ends the run and drops the history.
-    pub fn begin(&mut self, on: bool, s: &TemporalSettings, cam: &mut WorldCamera) {
+    /// A frame whose scene or lights do not continue the last frame's
+    /// ([`RunKey::continues`]) starts a new run.
+    pub fn begin(&mut self, on: bool, s: &TemporalSettings, cam: &mut WorldCamera, run: RunKey) {
+        if self
+            .last_run
+            .as_ref()
+            .is_some_and(|last| !run.continues(last))
+        {
+            self.prev_eye = None;
+        }
+        self.last_run = Some(run);
         (cam.jitter, cam.frame) = self.next(on, s, (cam.width, cam.height));
     }
 
@@ -395,6 +445,26 @@ mod tests {
     use himmel_skymodel::Camera;
 
     #[test]
+    fn a_run_continues_over_time_and_camera_only() {
+        let a = himmel_skymodel::Scene::default();
+        let sun = Vec3::new(0.0, 0.5, 0.8).normalize();
+        let key = |s: &himmel_skymodel::Scene, d: f32| {
+            let r = sun + Vec3::new(d.to_radians(), 0.0, 0.0);
+            RunKey::of(s, Some(r.normalize()), None)
+        };
+        let first = key(&a, 0.0);
+        let mut b = a.clone();
+        b.time.utc = "2024-06-21T12:00:01Z".into();
+        b.camera.yaw_deg += 1.0;
+        assert!(key(&b, 0.05).continues(&first));
+        // The Sun's step beyond LIGHT_STEP_DEG, or another scene: a new run.
+        assert!(!key(&b, 0.2).continues(&first));
+        b.sun_scale = 2.0;
+        assert!(!key(&b, 0.0).continues(&first));
+        assert!(!RunKey::of(&a, None, None).continues(&first));
+    }
+
+    #[test]
     fn halton_points_fill_the_pixel_evenly() {
         assert_eq!(halton(1, 2), 0.5);
         assert_eq!(halton(3, 2), 0.75);
@@ -417,10 +487,8 @@ mod tests {
     #[test]
     fn uniforms_mirror_the_wgsl_struct() {
         use crate::uniforms::tests::{assert_wgsl_layout, fields};
-        let rust = fields!(
-            TemporalUniforms,
-            [eye, forward, right, up, prev_eye, jitter, q]
-        );
+        let mut rust = CameraBlock::layout();
+        rust.extend(fields!(TemporalUniforms, [prev_eye, jitter, q]));
         let wgsl = include_str!("../../shaders/lighting/temporal.wgsl");
         let size = std::mem::size_of::<TemporalUniforms>();
         assert_wgsl_layout(wgsl, "Temporal", size, &rust);

@@ -44,7 +44,40 @@ pub struct WorldCamera {
     pub frame: u32,
 }
 
+/// The camera as the compute passes' uniforms begin (`ao.wgsl`,
+/// `ssr.wgsl`, `temporal.wgsl`: eye, forward, right, up, each a vec4):
+/// `eye.w` tan ½ fov, `forward.w` the aspect, `right.w` and `up.w` the
+/// image's width and height in pixels.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CameraBlock {
+    eye: [f32; 4],
+    forward: [f32; 4],
+    right: [f32; 4],
+    up: [f32; 4],
+}
+
+impl CameraBlock {
+    /// Its members as `uniforms::tests::fields!` lists them (name, offset,
+    /// type), for the layout checks of the uniforms that begin with it.
+    #[cfg(test)]
+    pub fn layout() -> Vec<(&'static str, usize, &'static str)> {
+        crate::uniforms::tests::fields!(CameraBlock, [eye, forward, right, up])
+    }
+}
+
 impl WorldCamera {
+    /// The uniforms' camera block.
+    pub fn block(&self) -> CameraBlock {
+        let v4 = |v: Vec3, w: f32| [v.x, v.y, v.z, w];
+        CameraBlock {
+            eye: v4(self.eye, self.tan_half),
+            forward: v4(self.forward, self.aspect),
+            right: v4(self.right, self.width as f32),
+            up: v4(self.up, self.height as f32),
+        }
+    }
+
     /// The world camera of the scene's perspective camera.
     pub fn new(cam: &Camera) -> WorldCamera {
         let (f, r, u) = cam.basis();
