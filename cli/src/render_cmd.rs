@@ -618,6 +618,7 @@ pub(crate) fn frame_stats(
         "lut_source": out.lut_source,
         "geometry_ms": out.geometry_ms,
         "sky_view_ms": out.sky_view_ms,
+        "cloud_maps_ms": out.cloud_maps_ms,
         "write_ms": frame.write_ms,
         "overlay_ms": frame.overlay_ms,
         "ev100": frame.ev100,

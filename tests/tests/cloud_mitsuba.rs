@@ -362,13 +362,13 @@ fn the_height_field_tier_against_mitsuba() {
     let mut failures = Vec::new();
     for field in [TEST_FIELD, TUNING_FIELD] {
         let s = setup(field);
-        let hf = HeightField::build(&s.field);
         for sun in s.v["suns"].as_array().unwrap() {
             let name = sun["name"].as_str().unwrap();
             let l = towards(
                 sun["alt_deg"].as_f64().unwrap(),
                 sun["az_deg"].as_f64().unwrap(),
             );
+            let hf = HeightField::build(&s.field, &s.shell, &[l], &s.settings);
             let bound = height_field_bound(field, name);
             let (n, e) = radiance_error(
                 &s,

@@ -57,7 +57,7 @@ pub const CLOUDS_WGSL: &str = concat!(
 /// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
 /// cloud fields, the model's constants, the lights and the aerial
 /// perspective's inputs, the ground's cloud shadows, the height-field
-/// tier's maps. 496 bytes.
+/// tier's maps. 512 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CloudUniforms {
@@ -196,9 +196,11 @@ pub struct CloudUniforms {
     /// (0: the volumetric tier), `HeightField::n`, `half_width_km`,
     /// `texel_km`.
     pub hf_map: [f32; 4],
+    /// `HeightField::warp_km`, the number of `light_dirs`, 0, 0.
+    pub hf_warp: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 496);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 512);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -294,6 +296,7 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
             hf.half_width_km,
             hf.texel_km,
         ];
+        u.hf_warp = [hf.warp_km, hf.light_dirs.len().min(2) as f32, 0.0, 0.0];
     }
     u.ground_count = c.ground_direct.len().min(2) as u32;
     u.ground_flat = (c.shell.r_observer - c.shell.r_ground < 1e-3) as u32;
@@ -391,13 +394,20 @@ impl CloudsPass {
         let uniform = init("cloud uniforms", bytemuck::bytes_of(&u));
         // The height-field tier's maps (a stand-in without them).
         let columns = match &c.height_field {
-            Some(hf) => gpu
-                .device
-                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
-                    label: Some("cloud height field"),
-                    contents: bytemuck::cast_slice(&hf.columns),
-                    usage: wgpu::BufferUsages::STORAGE,
-                }),
+            Some(hf) => {
+                let all: Vec<[f32; 4]> = hf
+                    .columns
+                    .iter()
+                    .chain(&hf.light_columns)
+                    .copied()
+                    .collect();
+                gpu.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("cloud height field"),
+                        contents: bytemuck::cast_slice(&all),
+                        usage: wgpu::BufferUsages::STORAGE,
+                    })
+            }
             None => self.no_luts(gpu),
         };
         let atmo = init("cloud atmosphere", bytemuck::bytes_of(&atmo));
@@ -522,6 +532,7 @@ mod tests {
                 ground1_rgb,
                 diffusion_shape,
                 hf_map,
+                hf_warp,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);

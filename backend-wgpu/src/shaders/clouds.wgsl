@@ -114,8 +114,10 @@ struct Clouds {
     // forward_orders (clouds_diffusion.wgsl)
     diffusion_shape: vec4<f32>,
     // height_field.rs (clouds_heightfield.wgsl): `PROBE_DIVISOR` (0: the
-    // volumetric tier), texels per side, half-width (km), texel (km)
+    // volumetric tier), texels per side, half-width (km), texel (km); the
+    // warp's distance (km, 0: a regular grid), the number of light maps
     hf_map: vec4<f32>,
+    hf_warp: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;

@@ -4,8 +4,11 @@
 // function by function under the same names. The maps themselves
 // (`HeightField::build`: per column bottom, top, mean extinction, vertical
 // optical depth) are built once per frame in skymodel and bound as
-// `hf_columns`; `clouds.hf_map` holds (`PROBE_DIVISOR`, 0 when the tier is
-// off; texels per side; half-width km; texel km).
+// `hf_columns`: the n² columns, then n² entries per light of
+// `HeightField::light_columns`. `clouds.hf_map` holds (`PROBE_DIVISOR`, 0
+// when the tier is off; texels per side n; a regular grid's half-width km;
+// its texel km), `clouds.hf_warp` (the warp's distance km, 0 for a regular
+// grid; the number of lights with maps).
 
 @group(1) @binding(5) var<storage, read> hf_columns: array<vec4<f32>>;
 
@@ -34,19 +37,67 @@ fn hf_texel(i: i32, j: i32) -> vec4<f32> {
     return hf_columns[j * n + i];
 }
 
+// height_field.rs `HeightField::texel_coordinate`.
+fn texel_coordinate(x: f32) -> f32 {
+    let n = clouds.hf_map.y;
+    if (clouds.hf_warp.x > 0.0) {
+        let w = x / (abs(x) + clouds.hf_warp.x);
+        return (w + 1.0) * 0.5 * n - 0.5;
+    }
+    return (x + clouds.hf_map.z) / clouds.hf_map.w - 0.5;
+}
+
+// height_field.rs `HeightField::corners`: the lower corner's texel (xy)
+// and the bilinear fractions (zw).
+fn hf_corner(xy: vec2<f32>) -> vec4<f32> {
+    let u = vec2<f32>(texel_coordinate(xy.x), texel_coordinate(xy.y));
+    let f = floor(u);
+    return vec4<f32>(f, u - f);
+}
+
+// The bilinear weight of corner (di, dj) of `c` (`hf_corner`).
+fn hf_weight(c: vec4<f32>, di: i32, dj: i32) -> f32 {
+    let wx = select(1.0 - c.z, c.z, di == 1);
+    let wy = select(1.0 - c.w, c.w, dj == 1);
+    return wx * wy;
+}
+
 // height_field.rs `HeightField::segment_depth`.
 fn segment_depth(xy: vec2<f32>, h0: f32, h1: f32, len: f32) -> f32 {
-    let u = (xy + vec2<f32>(clouds.hf_map.z)) / clouds.hf_map.w - vec2<f32>(0.5);
-    let f = floor(u);
-    let fx = u.x - f.x;
-    let fy = u.y - f.y;
-    let i = i32(f.x);
-    let j = i32(f.y);
-    let d00 = column_depth(hf_texel(i, j), h0, h1, len);
-    let d10 = column_depth(hf_texel(i + 1, j), h0, h1, len);
-    let d01 = column_depth(hf_texel(i, j + 1), h0, h1, len);
-    let d11 = column_depth(hf_texel(i + 1, j + 1), h0, h1, len);
-    return (1.0 - fy) * ((1.0 - fx) * d00 + fx * d10) + fy * ((1.0 - fx) * d01 + fx * d11);
+    let c = hf_corner(xy);
+    var d = 0.0;
+    for (var k = 0; k < 4; k = k + 1) {
+        let di = k % 2;
+        let dj = k / 2;
+        let col = hf_texel(i32(c.x) + di, i32(c.y) + dj);
+        d = d + hf_weight(c, di, dj) * column_depth(col, h0, h1, len);
+    }
+    return d;
+}
+
+// height_field.rs `HeightField::light_depths`: (τ_l, τ_b) of light `k`.
+fn light_depths(k: u32, xy: vec2<f32>, h: f32) -> vec2<f32> {
+    let n = i32(clouds.hf_map.y);
+    let c = hf_corner(xy);
+    var t = vec2<f32>(0.0);
+    var wsum = 0.0;
+    for (var m = 0; m < 4; m = m + 1) {
+        let i = i32(c.x) + m % 2;
+        let j = i32(c.y) + m / 2;
+        let col = hf_texel(i, j);
+        let w = hf_weight(c, m % 2, m / 2);
+        if (col.z <= 0.0 || w <= 0.0) {
+            continue;
+        }
+        let d = hf_columns[(i32(k) + 1) * n * n + j * n + i];
+        let f = clamp((h - col.x) / (col.y - col.x), 0.0, 1.0);
+        t = t + w * vec2<f32>(d.x + f * (d.y - d.x), d.z + f * (d.w - d.z));
+        wsum = wsum + w;
+    }
+    if (wsum > 0.0) {
+        return t / wsum;
+    }
+    return vec2<f32>(0.0);
 }
 
 // height_field.rs `HeightField::ray_depth` (gap < 0: no gap test).
@@ -89,7 +140,7 @@ fn depth_connected(pos: vec3<f32>, dir: vec3<f32>, n: u32, gap: f32) -> f32 {
 
 // height_field.rs `probe_source` (the diffusion model when
 // `diffusion_gain` > 0, else the octaves).
-fn probe_source(lobes: vec4<f32>, cos_theta: f32, tau: f32, pos: vec3<f32>, l: vec3<f32>, mu0: f32) -> f32 {
+fn probe_source(lobes: vec4<f32>, cos_theta: f32, tau: f32, tau_b: f32, mu0: f32) -> f32 {
     var f = 0.0;
     var ai = 1.0;
     var bi = 1.0;
@@ -101,8 +152,6 @@ fn probe_source(lobes: vec4<f32>, cos_theta: f32, tau: f32, pos: vec3<f32>, l: v
         k = k * clouds.octave_c;
     }
     if (clouds.diffusion_gain > 0.0) {
-        let gap = clouds.diffusion_shape.x * clouds.low_extinction_per_km;
-        let tau_b = depth_connected(pos, -l, clouds.light_steps, gap);
         f = f + diffuse_source(tau, tau_b, mu0, cos_theta);
         f = f + forward_source(lobes, tau);
     }
@@ -144,9 +193,19 @@ fn march_height_field(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) 
         }
         var src = vec3<f32>(0.0);
         for (var j = 0u; j < ls.count; j = j + 1u) {
-            let tau = depth_to_light(pos, ls.dir[j], clouds.light_steps);
+            var taus: vec2<f32>;
+            if (f32(j) < clouds.hf_warp.y) {
+                taus = light_depths(j, pos.xy, length(pos) - clouds.r_ground);
+            } else {
+                let gap = clouds.diffusion_shape.x * clouds.low_extinction_per_km;
+                taus = vec2<f32>(
+                    depth_to_light(pos, ls.dir[j], clouds.light_steps),
+                    depth_connected(pos, -ls.dir[j], clouds.light_steps, gap),
+                );
+            }
             let mu0 = dot(pos, ls.dir[j]) / length(pos);
-            src = src + probe_source(lobes[j], dot(view, ls.dir[j]), tau, pos, ls.dir[j], mu0) * ls.rgb[j];
+            let cos_t = dot(view, ls.dir[j]);
+            src = src + probe_source(lobes[j], cos_t, taus.x, taus.y, mu0) * ls.rgb[j];
         }
         let h = length(pos) - clouds.r_ground;
         let amb = 0.4 + 0.6 * clamp((h - clouds.low_base_km) / thickness, 0.0, 1.0);

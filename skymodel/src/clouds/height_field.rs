@@ -20,25 +20,38 @@
 //! weighted), so a probe many times longer than the cloud's thickness
 //! still sees the thickness it traverses. The view ray takes `steps` / 4
 //! probes across the slab (more on slant paths, as the volumetric march;
-//! [`PROBE_DIVISOR`]), the light rays `light_steps` each; per probe the
-//! light is the volumetric tier's source at the probe's midpoint — single
-//! scattering through the optical depth towards the light τ_l, and the
-//! multiple-scattering model of the march settings (the diffusion slab of
-//! [`super::diffuse_source`] at the light's zenith cosine, with τ_b the
-//! column away from the light ending at the first gap, plus the forward
-//! lobes; or the octaves) — and the sky's ambient light. There is no
-//! surface orientation (the column's top is flat to it).
+//! [`PROBE_DIVISOR`]).
 //!
-//! What it costs: the map is [`COLUMN_SAMPLES`] field samples per column
-//! (at most [`MAX_MAP_TEXELS`]² columns) once per frame; a pixel then
-//! reads the maps (4 columns per probe) and evaluates no noise, where the
-//! volumetric march evaluates the noise about 16 times per step. What it
-//! loses: the map covers [`MAP_REACH_KM`] around the observer (an
-//! unbounded layer shows no low cloud beyond it: rays below a few degrees
-//! of elevation), its texels are 1/[`TEXELS_PER_CELL`] of a noise cell
-//! (or coarser, to fit the reach into [`MAX_MAP_TEXELS`]), and a column
-//! with two pieces of cloud above each other is one piece. The cloud
-//! shadows on the ground keep the volumetric march
+//! Lighting. Per light of the frame the maps also hold, per column, the
+//! optical depth towards the light τ_l and away from it τ_b (the piece of
+//! cloud beyond, ending at the first gap) from the column's bottom and
+//! from its top, each probed through the height-field volume
+//! (`light_steps` probes) when the maps are built; a view probe takes
+//! them interpolated linearly in altitude between the column's bottom and
+//! top (bilinear over the nearest columns with cloud). Its source is the
+//! volumetric tier's: single scattering through τ_l and the
+//! multiple-scattering model of the march settings (the diffusion slab of
+//! [`super::diffuse_source`] at the light's zenith cosine, plus the
+//! forward lobes; or the octaves), and the sky's ambient light. There is
+//! no surface orientation (a column's top is flat to it).
+//!
+//! The maps' texels: over a patch (`extent_km`) a regular grid of
+//! 1/[`TEXELS_PER_CELL`] of a noise cell (coarser if the patch needs more
+//! than [`MAX_MAP_TEXELS`] per side); over an unbounded layer a grid warped
+//! per axis, x = a w / (1 − |w|) for w in (−1, 1), a =
+//! [`MAX_MAP_TEXELS`]/2 texels of 1/[`TEXELS_PER_CELL`] cell: fine above
+//! the observer, a texel (|x| + a)²/a² times wider at distance |x| (4×
+//! at a, 16× at 3a), where a distant cloud covers a few pixels, and the
+//! whole plane covered.
+//!
+//! What it costs: [`COLUMN_SAMPLES`] field samples per column (at most
+//! [`MAX_MAP_TEXELS`]² columns) and four short probe marches per column
+//! and light, once per frame; a pixel then reads the maps (4 columns per
+//! probe) and evaluates no noise and marches no light ray, where the
+//! volumetric march evaluates the 4-octave noise about 16 times per step.
+//! What it loses: the column's vertical structure (two pieces of cloud
+//! above each other are one), the flanks' orientation, and detail below
+//! a texel. The cloud shadows on the ground keep the volumetric march
 //! ([`super::optical_depth_ray`]).
 
 use glam::{Vec2, Vec3};
@@ -56,27 +69,34 @@ pub const COLUMN_SAMPLES: u32 = 16;
 /// Map texels per noise cell (the finest of the 4 octaves is 1/8 cell).
 pub const TEXELS_PER_CELL: f32 = 32.0;
 /// The most texels along a side of the maps.
-pub const MAX_MAP_TEXELS: u32 = 512;
-/// Half-width of the maps around the observer for an unbounded layer, km.
-pub const MAP_REACH_KM: f32 = 80.0;
+pub const MAX_MAP_TEXELS: u32 = 256;
 /// The view ray's probes are the volumetric march's `steps` / this.
 pub const PROBE_DIVISOR: u32 = 4;
 
 /// The maps of one frame: per column, bottom and top altitude of the
 /// cloud (km above the ground), its mean extinction (km⁻¹) and its
-/// vertical optical depth, on an `n` × `n` grid of texels `texel_km` wide
-/// centred on the observer (x East fastest, then y North).
+/// vertical optical depth, on an `n` × `n` grid of texels centred on the
+/// observer (x East fastest, then y North); per light, the optical depths
+/// towards and away from it from each column's bottom and top.
 #[derive(Debug, Clone, PartialEq)]
 pub struct HeightField {
     /// Texels per side.
     pub n: u32,
-    /// Half-width of the square the maps cover, km.
+    /// Half-width of the square a regular grid covers, km (a patch's).
     pub half_width_km: f32,
-    /// Width of a texel, km.
+    /// Width of a regular grid's texel, km.
     pub texel_km: f32,
+    /// The warp's distance a of an unbounded layer's grid, km (0: regular).
+    pub warp_km: f32,
     /// [bottom km, top km, mean extinction km⁻¹, vertical optical depth]
     /// per column.
     pub columns: Vec<[f32; 4]>,
+    /// Unit directions of the lights whose maps follow.
+    pub light_dirs: Vec<Vec3>,
+    /// Per light (`n`² entries each, in [`Self::light_dirs`]' order):
+    /// [τ_l from the bottom, τ_l from the top, τ_b from the bottom, τ_b
+    /// from the top] per column.
+    pub light_columns: Vec<[f32; 4]>,
 }
 
 /// A column without cloud.
@@ -126,29 +146,128 @@ pub fn column_depth(column: [f32; 4], h0: f32, h1: f32, len: f32) -> f32 {
 }
 
 impl HeightField {
-    /// The maps of `field` for this frame: over its patch when it has one,
-    /// else [`MAP_REACH_KM`] around the observer.
-    pub fn build(field: &LowField) -> HeightField {
-        let half = field.half_extent_km.min(MAP_REACH_KM);
+    /// The maps of `field` for this frame and the lights `light_dirs` (unit,
+    /// towards each), the light probes `light_steps` each, the gaps as the
+    /// diffusion model of `settings` says.
+    pub fn build(
+        field: &LowField,
+        shell: &Shell,
+        light_dirs: &[Vec3],
+        settings: &MarchSettings,
+    ) -> HeightField {
         let fine = 1.0 / (field.inv_scale * TEXELS_PER_CELL);
-        let texel_km = fine.max(2.0 * half / MAX_MAP_TEXELS as f32);
-        let n = ((2.0 * half / texel_km).ceil() as u32).clamp(1, MAX_MAP_TEXELS);
-        let half_width_km = 0.5 * n as f32 * texel_km;
-        let centre = |i: u32| -half_width_km + (i as f32 + 0.5) * texel_km;
-        let mut columns = vec![CLEAR_COLUMN; (n * n) as usize];
-        columns
+        let (n, half_width_km, texel_km, warp_km) = if field.half_extent_km.is_finite() {
+            let half = field.half_extent_km;
+            let texel = fine.max(2.0 * half / MAX_MAP_TEXELS as f32);
+            let n = ((2.0 * half / texel).ceil() as u32).clamp(1, MAX_MAP_TEXELS);
+            (n, 0.5 * n as f32 * texel, texel, 0.0)
+        } else {
+            let n = MAX_MAP_TEXELS;
+            (n, f32::INFINITY, fine, 0.5 * n as f32 * fine)
+        };
+        let mut hf = HeightField {
+            n,
+            half_width_km,
+            texel_km,
+            warp_km,
+            columns: vec![CLEAR_COLUMN; (n * n) as usize],
+            light_dirs: light_dirs.to_vec(),
+            light_columns: vec![CLEAR_COLUMN; light_dirs.len() * (n * n) as usize],
+        };
+        let centres: Vec<f32> = (0..n).map(|i| hf.texel_centre(i)).collect();
+        hf.columns
             .par_chunks_mut(n as usize)
             .enumerate()
             .for_each(|(j, row)| {
                 for (i, c) in row.iter_mut().enumerate() {
-                    *c = column(field, Vec2::new(centre(i as u32), centre(j as u32)));
+                    *c = column(field, Vec2::new(centres[i], centres[j]));
                 }
             });
-        HeightField {
-            n,
-            half_width_km,
-            texel_km,
-            columns,
+        let gap = match settings.scattering {
+            MultipleScattering::Diffusion(d) => d.gap_density * field.extinction_per_km,
+            MultipleScattering::Octaves(_) => 0.0,
+        };
+        let mut light_columns = std::mem::take(&mut hf.light_columns);
+        for (k, chunk) in light_columns.chunks_mut((n * n) as usize).enumerate() {
+            let l = light_dirs[k];
+            chunk.par_iter_mut().enumerate().for_each(|(idx, out)| {
+                let c = hf.columns[idx];
+                if c[2] <= 0.0 {
+                    return;
+                }
+                let xy = Vec2::new(centres[idx % n as usize], centres[idx / n as usize]);
+                let at = |h: f32| {
+                    let r = shell.r_ground + h;
+                    Vec3::new(xy.x, xy.y, (r * r - xy.length_squared()).max(0.0).sqrt())
+                };
+                let steps = settings.light_steps;
+                let towards = |h: f32| hf.depth_to_light(field, shell, at(h), l, steps);
+                let away = |h: f32| hf.depth_connected(field, shell, at(h), -l, steps, gap);
+                *out = [towards(c[0]), towards(c[1]), away(c[0]), away(c[1])];
+            });
+        }
+        hf.light_columns = light_columns;
+        hf
+    }
+
+    /// The horizontal coordinate (km) of the centre of texel `i` along an
+    /// axis.
+    pub fn texel_centre(&self, i: u32) -> f32 {
+        if self.warp_km > 0.0 {
+            let w = (i as f32 + 0.5) * 2.0 / self.n as f32 - 1.0;
+            self.warp_km * w / (1.0 - w.abs())
+        } else {
+            -self.half_width_km + (i as f32 + 0.5) * self.texel_km
+        }
+    }
+
+    /// The continuous texel coordinate of `x` km along an axis (texel i's
+    /// centre at i).
+    pub fn texel_coordinate(&self, x: f32) -> f32 {
+        if self.warp_km > 0.0 {
+            let w = x / (x.abs() + self.warp_km);
+            (w + 1.0) * 0.5 * self.n as f32 - 0.5
+        } else {
+            (x + self.half_width_km) / self.texel_km - 0.5
+        }
+    }
+
+    /// The four texels around `xy` and their bilinear weights.
+    fn corners(&self, xy: Vec2) -> [((i32, i32), f32); 4] {
+        let u = Vec2::new(self.texel_coordinate(xy.x), self.texel_coordinate(xy.y));
+        let (fi, fj) = (u.x.floor(), u.y.floor());
+        let (fx, fy) = (u.x - fi, u.y - fj);
+        let (i, j) = (fi as i32, fj as i32);
+        [
+            ((i, j), (1.0 - fx) * (1.0 - fy)),
+            ((i + 1, j), fx * (1.0 - fy)),
+            ((i, j + 1), (1.0 - fx) * fy),
+            ((i + 1, j + 1), fx * fy),
+        ]
+    }
+
+    /// The optical depths towards and away from light `k` of the maps
+    /// at `xy` and altitude `h_km`: each column's interpolated linearly in
+    /// altitude between its bottom and top, weighted bilinearly over the
+    /// nearest columns with cloud.
+    pub fn light_depths(&self, k: usize, xy: Vec2, h_km: f32) -> (f32, f32) {
+        let nn = (self.n * self.n) as usize;
+        let (mut tl, mut tb, mut wsum) = (0.0, 0.0, 0.0);
+        for ((i, j), w) in self.corners(xy) {
+            let c = self.texel(i, j);
+            if c[2] <= 0.0 || w <= 0.0 {
+                continue;
+            }
+            let d = self.light_columns[k * nn + (j * self.n as i32 + i) as usize];
+            let f = ((h_km - c[0]) / (c[1] - c[0])).clamp(0.0, 1.0);
+            tl += w * (d[0] + f * (d[1] - d[0]));
+            tb += w * (d[2] + f * (d[3] - d[2]));
+            wsum += w;
+        }
+        if wsum > 0.0 {
+            (tl / wsum, tb / wsum)
+        } else {
+            (0.0, 0.0)
         }
     }
 
@@ -167,13 +286,10 @@ impl HeightField {
     /// `xy` (km East, North of the observer): [`column_depth`] of the four
     /// columns nearest `xy`, weighted bilinearly.
     pub fn segment_depth(&self, xy: Vec2, h0: f32, h1: f32, len: f32) -> f32 {
-        let u = (xy + Vec2::splat(self.half_width_km)) / self.texel_km - Vec2::splat(0.5);
-        let (fi, fj) = (u.x.floor(), u.y.floor());
-        let (fx, fy) = (u.x - fi, u.y - fj);
-        let (i, j) = (fi as i32, fj as i32);
-        let d = |a: i32, b: i32| column_depth(self.texel(a, b), h0, h1, len);
-        (1.0 - fy) * ((1.0 - fx) * d(i, j) + fx * d(i + 1, j))
-            + fy * ((1.0 - fx) * d(i, j + 1) + fx * d(i + 1, j + 1))
+        self.corners(xy)
+            .iter()
+            .map(|&((i, j), w)| w * column_depth(self.texel(i, j), h0, h1, len))
+            .sum()
     }
 
     /// The optical depth over `n` equal probes of the straight ray from
@@ -279,7 +395,7 @@ fn probe_source(
     lobes: &[f32; MAX_FORWARD_ORDERS],
     cos_theta: f32,
     tau: f32,
-    tau_b: impl Fn() -> f32,
+    tau_b: f32,
     mu0: f32,
 ) -> f32 {
     let mut f = 0.0;
@@ -291,7 +407,7 @@ fn probe_source(
         k *= octaves.c;
     }
     if let MultipleScattering::Diffusion(d) = settings.scattering {
-        f += diffuse_source(&d, tau, tau_b(), mu0, cos_theta);
+        f += diffuse_source(&d, tau, tau_b, mu0, cos_theta);
         f += forward_source(lobes, tau);
     }
     f
@@ -299,7 +415,9 @@ fn probe_source(
 
 /// The view ray `view` through the height-field volume `hf` of `field`
 /// (the volumetric [`super::march_low`]'s contract: lights at the cloud,
-/// the sky's isotropic `ambient` radiance, linear sRGB, cd/m²).
+/// the sky's isotropic `ambient` radiance, linear sRGB, cd/m²). Light k
+/// takes its optical depths from the maps when they were built for its
+/// direction (`hf.light_dirs[k]`), else probes them through the volume.
 pub fn march_height_field(
     hf: &HeightField,
     field: &LowField,
@@ -342,10 +460,20 @@ pub fn march_height_field(
             continue;
         }
         let mut src = [0.0f32; 3];
-        for (lt, lobes) in lights.iter().zip(&lobes) {
-            let tau = hf.depth_to_light(field, shell, pos, lt.dir, settings.light_steps);
-            let tau_b =
-                || hf.depth_connected(field, shell, pos, -lt.dir, settings.light_steps, gap);
+        for (k, (lt, lobes)) in lights.iter().zip(&lobes).enumerate() {
+            let (tau, tau_b) = if hf
+                .light_dirs
+                .get(k)
+                .is_some_and(|d| d.dot(lt.dir) > 0.999_999)
+            {
+                hf.light_depths(k, Vec2::new(pos.x, pos.y), height(t))
+            } else {
+                let n = settings.light_steps;
+                (
+                    hf.depth_to_light(field, shell, pos, lt.dir, n),
+                    hf.depth_connected(field, shell, pos, -lt.dir, n, gap),
+                )
+            };
             let mu0 = pos.dot(lt.dir) / pos.length();
             let f = probe_source(settings, octaves, lobes, view.dot(lt.dir), tau, tau_b, mu0);
             for c in 0..3 {
@@ -449,14 +577,17 @@ mod tests {
     #[test]
     fn the_height_field_march_follows_the_volume() {
         let f = field(2.0);
-        let hf = HeightField::build(&f);
+        let sun = Vec3::new(0.3, -0.5, 0.8).normalize();
+        let hf = HeightField::build(&f, &SHELL, &[sun], &SETTINGS);
         assert!(hf.n > 32 && hf.n <= MAX_MAP_TEXELS, "{}", hf.n);
+        let probed = HeightField::build(&f, &SHELL, &[], &SETTINGS);
         let light = |e: f32| {
             [CloudLight {
-                dir: Vec3::new(0.3, -0.5, 0.8).normalize(),
+                dir: sun,
                 irradiance_rgb: [e; 3],
             }]
         };
+        let (mut mapped, mut marched) = (0.0f32, 0.0f32);
         let (mut err, mut sum, mut lit) = (0.0f32, 0.0f32, 0);
         for i in 0..80 {
             let a = i as f32 * 0.37;
@@ -472,19 +603,40 @@ mod tests {
             sum += 1.0 - t;
             let vol = march_low(&f, &SHELL, v, &light(1.0), [0.0; 3], &SETTINGS);
             lit += (h1.radiance[1] > 0.0 && vol.radiance[1] > 0.0) as u32;
+            let p = march_height_field(&probed, &f, &SHELL, v, &light(1.0), [0.0; 3], &SETTINGS);
+            mapped += h1.radiance[1];
+            marched += p.radiance[1];
         }
         assert!(err < 0.15 * sum, "{err} vs {sum}");
         assert!(lit > 20, "{lit}");
+        // The light maps stand in for the probes towards the light.
+        assert!(
+            (mapped / marched - 1.0).abs() < 0.15,
+            "{mapped} vs {marched}"
+        );
     }
 
     #[test]
-    fn an_unbounded_layer_gets_maps_around_the_observer() {
+    fn an_unbounded_layer_gets_a_warped_grid() {
         let f = field(0.0);
         assert!(!f.half_extent_km.is_finite());
-        let hf = HeightField::build(&LowField { coverage: 0.3, ..f });
+        let hf = HeightField::build(&f, &SHELL, &[Vec3::Z], &SETTINGS);
         assert_eq!(hf.n, MAX_MAP_TEXELS);
-        assert!((hf.half_width_km - MAP_REACH_KM).abs() < hf.texel_km);
-        let far = Vec2::new(2.0 * MAP_REACH_KM, 0.0);
-        assert_eq!(hf.segment_depth(far, 1.0, 2.0, 1.0), 0.0);
+        assert!(hf.warp_km > 0.0);
+        let fine = 1.0 / (f.inv_scale * TEXELS_PER_CELL);
+        let mid = hf.n / 2;
+        let w0 = hf.texel_centre(mid) - hf.texel_centre(mid - 1);
+        assert!((w0 / fine - 1.0).abs() < 0.05, "{w0} vs {fine}");
+        for i in [0, 3, mid - 7, mid, hf.n - 1] {
+            let x = hf.texel_centre(i);
+            assert!((hf.texel_coordinate(x) - i as f32).abs() < 1e-2, "{i} {x}");
+        }
+        assert!(
+            hf.texel_centre(hf.n - 1) > MAX_MARCH_KM,
+            "{}",
+            hf.texel_centre(hf.n - 1)
+        );
+        let thick = hf.columns.iter().filter(|c| c[3] > 0.0).count();
+        assert!(thick > 100, "{thick}");
     }
 }

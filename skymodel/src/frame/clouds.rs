@@ -104,6 +104,8 @@ pub struct CloudFrame {
     /// `heightfield` (built here, once per frame; none: the volumetric
     /// march).
     pub height_field: Option<Arc<HeightField>>,
+    /// Time spent building [`Self::height_field`], ms.
+    pub height_field_ms: f64,
     /// The sky's mean downward radiance, linear sRGB, cd/m².
     pub ambient_rgb: [f32; 3],
     /// The direct part of the ground's luminance below the horizon, per
@@ -171,23 +173,27 @@ impl CloudFrame {
             _ => Vec::new(),
         };
         let low = c.has_low().then(|| LowField::new(&c.low, seconds));
+        let march = MarchSettings {
+            steps: c.low.steps,
+            light_steps: c.low.light_steps,
+            scattering: match c.low.scattering {
+                CloudScattering::Diffusion => MultipleScattering::Diffusion(DIFFUSION),
+                CloudScattering::Octaves => MultipleScattering::Octaves(OCTAVES),
+            },
+        };
+        let dirs: Vec<Vec3> = lights.iter().map(|l| l.dir).collect();
+        let clock = std::time::Instant::now();
         let height_field = low
             .filter(|_| c.low.tier == LowCloudTier::Heightfield)
-            .map(|f| Arc::new(HeightField::build(&f)));
+            .map(|f| Arc::new(HeightField::build(&f, &shell, &dirs, &march)));
         let mut frame = CloudFrame {
             low,
             high: c.has_high().then(|| HighField::new(&c.high, seconds)),
             shell,
-            march: MarchSettings {
-                steps: c.low.steps,
-                light_steps: c.low.light_steps,
-                scattering: match c.low.scattering {
-                    CloudScattering::Diffusion => MultipleScattering::Diffusion(DIFFUSION),
-                    CloudScattering::Octaves => MultipleScattering::Octaves(OCTAVES),
-                },
-            },
+            march,
             march_stride: c.low.march_stride,
             height_field,
+            height_field_ms: clock.elapsed().as_secs_f64() * 1e3,
             ambient_rgb,
             ground_direct,
             ground_at_observer: Vec::new(),
