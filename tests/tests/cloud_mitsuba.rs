@@ -411,7 +411,10 @@ fn the_height_field_tier_against_mitsuba() {
     assert!(failures.is_empty(), "{failures:?}");
 }
 
-/// The height-field tier's radiance bounds: measured + a margin.
+/// The height-field tier's radiance bounds: measured + a margin (15.0 %
+/// and 27.7 % on the test's field, 12.5 % and 31.7 % on seed 7; the Sun's
+/// transmittance through it 7.5 % and 22.1 %: a slant ray through a
+/// column of uniform extinction between its bottom and top).
 fn height_field_bound(field: &str, sun: &str) -> f64 {
     match (field, sun) {
         (TEST_FIELD, "sun60") => 0.17,

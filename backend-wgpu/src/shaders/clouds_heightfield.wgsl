@@ -4,8 +4,9 @@
 // function by function under the same names. The maps themselves
 // (`HeightField::build`: per column bottom, top, mean extinction, vertical
 // optical depth) are built once per frame in skymodel and bound as
-// `hf_columns`: the n² columns, then n² entries per light of
-// `HeightField::light_columns`. `clouds.hf_map` holds (`PROBE_DIVISOR`, 0
+// `hf_columns`: the n² columns, then 2 n² entries per light of
+// `HeightField::light_columns` (per column τ_l, then τ_b, at the
+// `LIGHT_LEVELS` = 4 altitudes from its bottom to its top). `clouds.hf_map` holds (`PROBE_DIVISOR`, 0
 // when the tier is off; texels per side n; a regular grid's half-width km;
 // its texel km), `clouds.hf_warp` (the warp's distance km, 0 for a regular
 // grid; the number of lights with maps).
@@ -89,9 +90,13 @@ fn light_depths(k: u32, xy: vec2<f32>, h: f32) -> vec2<f32> {
         if (col.z <= 0.0 || w <= 0.0) {
             continue;
         }
-        let d = hf_columns[(i32(k) + 1) * n * n + j * n + i];
-        let f = clamp((h - col.x) / (col.y - col.x), 0.0, 1.0);
-        t = t + w * vec2<f32>(d.x + f * (d.y - d.x), d.z + f * (d.w - d.z));
+        let at = n * n + 2 * (i32(k) * n * n + j * n + i);
+        let f = clamp((h - col.x) / (col.y - col.x), 0.0, 1.0) * 3.0;
+        let m = min(u32(floor(f)), 2u);
+        let r = f - f32(m);
+        let dl = hf_columns[at];
+        let db = hf_columns[at + 1];
+        t = t + w * vec2<f32>(dl[m] + r * (dl[m + 1u] - dl[m]), db[m] + r * (db[m + 1u] - db[m]));
         wsum = wsum + w;
     }
     if (wsum > 0.0) {

@@ -24,11 +24,12 @@
 //!
 //! Lighting. Per light of the frame the maps also hold, per column, the
 //! optical depth towards the light τ_l and away from it τ_b (the piece of
-//! cloud beyond, ending at the first gap) from the column's bottom and
-//! from its top, each probed through the height-field volume
-//! (`light_steps` probes) when the maps are built; a view probe takes
-//! them interpolated linearly in altitude between the column's bottom and
-//! top (bilinear over the nearest columns with cloud). Its source is the
+//! cloud beyond, ending at the first gap) at [`LIGHT_LEVELS`] altitudes
+//! from the column's bottom to its top, each probed through the
+//! height-field volume (`light_steps` probes) when the maps are built (a
+//! slant light ray crosses many columns, so τ_l is far from linear in
+//! altitude); a view probe takes them interpolated piecewise linearly in
+//! altitude (bilinear over the nearest columns with cloud). Its source is the
 //! volumetric tier's: single scattering through τ_l and the
 //! multiple-scattering model of the march settings (the diffusion slab of
 //! [`super::diffuse_source`] at the light's zenith cosine, plus the
@@ -70,6 +71,8 @@ pub const COLUMN_SAMPLES: u32 = 16;
 pub const TEXELS_PER_CELL: f32 = 32.0;
 /// The most texels along a side of the maps.
 pub const MAX_MAP_TEXELS: u32 = 256;
+/// Altitudes per column, bottom to top, of the light maps.
+pub const LIGHT_LEVELS: usize = 4;
 /// The view ray's probes are the volumetric march's `steps` / this.
 pub const PROBE_DIVISOR: u32 = 4;
 
@@ -93,10 +96,10 @@ pub struct HeightField {
     pub columns: Vec<[f32; 4]>,
     /// Unit directions of the lights whose maps follow.
     pub light_dirs: Vec<Vec3>,
-    /// Per light (`n`² entries each, in [`Self::light_dirs`]' order):
-    /// [τ_l from the bottom, τ_l from the top, τ_b from the bottom, τ_b
-    /// from the top] per column.
-    pub light_columns: Vec<[f32; 4]>,
+    /// Per light (2 `n`² entries each, in [`Self::light_dirs`]' order),
+    /// per column: τ_l, then τ_b, at the [`LIGHT_LEVELS`] altitudes
+    /// bottom + (top − bottom) · m / 3.
+    pub light_columns: Vec<[f32; LIGHT_LEVELS]>,
 }
 
 /// A column without cloud.
@@ -172,7 +175,7 @@ impl HeightField {
             warp_km,
             columns: vec![CLEAR_COLUMN; (n * n) as usize],
             light_dirs: light_dirs.to_vec(),
-            light_columns: vec![CLEAR_COLUMN; light_dirs.len() * (n * n) as usize],
+            light_columns: vec![[0.0; LIGHT_LEVELS]; 2 * light_dirs.len() * (n * n) as usize],
         };
         let centres: Vec<f32> = (0..n).map(|i| hf.texel_centre(i)).collect();
         hf.columns
@@ -188,9 +191,9 @@ impl HeightField {
             MultipleScattering::Octaves(_) => 0.0,
         };
         let mut light_columns = std::mem::take(&mut hf.light_columns);
-        for (k, chunk) in light_columns.chunks_mut((n * n) as usize).enumerate() {
+        for (k, chunk) in light_columns.chunks_mut(2 * (n * n) as usize).enumerate() {
             let l = light_dirs[k];
-            chunk.par_iter_mut().enumerate().for_each(|(idx, out)| {
+            chunk.par_chunks_mut(2).enumerate().for_each(|(idx, out)| {
                 let c = hf.columns[idx];
                 if c[2] <= 0.0 {
                     return;
@@ -203,7 +206,11 @@ impl HeightField {
                 let steps = settings.light_steps;
                 let towards = |h: f32| hf.depth_to_light(field, shell, at(h), l, steps);
                 let away = |h: f32| hf.depth_connected(field, shell, at(h), -l, steps, gap);
-                *out = [towards(c[0]), towards(c[1]), away(c[0]), away(c[1])];
+                for m in 0..LIGHT_LEVELS {
+                    let h = c[0] + (c[1] - c[0]) * m as f32 / (LIGHT_LEVELS - 1) as f32;
+                    out[0][m] = towards(h);
+                    out[1][m] = away(h);
+                }
             });
         }
         hf.light_columns = light_columns;
@@ -247,9 +254,9 @@ impl HeightField {
     }
 
     /// The optical depths towards and away from light `k` of the maps
-    /// at `xy` and altitude `h_km`: each column's interpolated linearly in
-    /// altitude between its bottom and top, weighted bilinearly over the
-    /// nearest columns with cloud.
+    /// at `xy` and altitude `h_km`: each column's interpolated piecewise
+    /// linearly in altitude between its levels, weighted bilinearly over
+    /// the nearest columns with cloud.
     pub fn light_depths(&self, k: usize, xy: Vec2, h_km: f32) -> (f32, f32) {
         let nn = (self.n * self.n) as usize;
         let (mut tl, mut tb, mut wsum) = (0.0, 0.0, 0.0);
@@ -258,10 +265,14 @@ impl HeightField {
             if c[2] <= 0.0 || w <= 0.0 {
                 continue;
             }
-            let d = self.light_columns[k * nn + (j * self.n as i32 + i) as usize];
-            let f = ((h_km - c[0]) / (c[1] - c[0])).clamp(0.0, 1.0);
-            tl += w * (d[0] + f * (d[1] - d[0]));
-            tb += w * (d[2] + f * (d[3] - d[2]));
+            let at = 2 * (k * nn + (j * self.n as i32 + i) as usize);
+            let top = (LIGHT_LEVELS - 1) as f32;
+            let f = ((h_km - c[0]) / (c[1] - c[0])).clamp(0.0, 1.0) * top;
+            let m = (f.floor() as usize).min(LIGHT_LEVELS - 2);
+            let r = f - m as f32;
+            let lerp = |d: [f32; LIGHT_LEVELS]| d[m] + r * (d[m + 1] - d[m]);
+            tl += w * lerp(self.light_columns[at]);
+            tb += w * lerp(self.light_columns[at + 1]);
             wsum += w;
         }
         if wsum > 0.0 {
