@@ -43,6 +43,18 @@ Usage (from the repository root):
 
     /tmp/venv/bin/python tools/cloud_reference.py [--spp 1024] [--shadow-spp 64]
         [--out tests/fixtures/cloud_ref] [--only sun20_radiance ...]
+        [--seed 17] [--max-depth -1]
+
+`--seed` changes the sampler's seeds (the committed references use 17): an
+independent copy at the same spp, compared with the committed image in the
+test's metric, measures the reference's own noise (README, "The
+reference's noise is not what is left"):
+
+    /tmp/venv/bin/python tools/cloud_reference.py --out /tmp/copy --spp 16384 \
+        --only sun20_radiance --seed 1017
+
+`--max-depth 2` renders single scattering alone (a diagnostic: which order
+of scattering carries an error).
 
 Mitsuba 3 is BSD-3-Clause (Wenzel Jakob et al.).
 """

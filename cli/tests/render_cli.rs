@@ -667,6 +667,7 @@ fn cloud_flags_and_keys() {
     let v: serde_json::Value = serde_json::from_str(&t).unwrap();
     assert_eq!(v["clouds"]["low"]["coverage"], 0.0);
     assert_eq!(v["clouds"]["low"]["kind"], "cumulus");
+    assert_eq!(v["clouds"]["low"]["tier"], "volumetric");
     assert_eq!(v["clouds"]["high"]["altitude_km"], 9.0);
 }
 

@@ -278,6 +278,14 @@ mod tests {
     }
 
     #[test]
+    fn tiers_parse() {
+        let l: LowCloudSpec = serde_json::from_str(r#"{"tier": "heightfield"}"#).unwrap();
+        assert_eq!(l.tier, LowCloudTier::Heightfield);
+        assert_eq!(LowCloudSpec::default().tier, LowCloudTier::Volumetric);
+        assert!(serde_json::from_str::<LowCloudSpec>(r#"{"tier": "sprites"}"#).is_err());
+    }
+
+    #[test]
     fn kinds_parse() {
         assert_eq!(
             LowCloudKind::from_name(" Stratocumulus"),

@@ -219,15 +219,15 @@ fn references_were_made_from_this_field() {
 /// Himmel's radiance against the reference of Sun `name` in the
 /// zenith view: the number of cloud pixels (Himmel's transmittance below
 /// 0.9), Σ|ΔY|/ΣY over them, printed with the mean per-pixel error and
-/// the ratio of the sums.
+/// the ratio of the sums. `march`: the settings, and the height-field
+/// tier's maps when it is the one measured.
 fn radiance_error(
     s: &Setup,
     field: &str,
     name: &str,
     model: &str,
     l: Vec3,
-    settings: &MarchSettings,
-    hf: Option<&HeightField>,
+    (settings, hf): (&MarchSettings, Option<&HeightField>),
     bound: f64,
 ) -> (usize, f64) {
     let reference = read_exr(dir(field).join(format!("{name}_radiance.exr"))).unwrap();
@@ -295,7 +295,7 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
             let mut s_model = s.settings;
             s_model.scattering = scattering;
             let weighted;
-            (n, weighted) = radiance_error(&s, TEST_FIELD, name, model, l, &s_model, None, bound);
+            (n, weighted) = radiance_error(&s, TEST_FIELD, name, model, l, (&s_model, None), bound);
             if weighted.is_nan() || weighted > bound {
                 failures.push(format!("{name} {model} radiance {:.1} %", weighted * 100.0));
             }
@@ -338,8 +338,7 @@ fn the_field_the_constants_were_chosen_on() {
             name,
             "diffusion",
             l,
-            &s.settings,
-            None,
+            (&s.settings, None),
             bound,
         );
         assert!(n > 50, "{name}: too few cloud pixels ({n})");
@@ -376,8 +375,7 @@ fn the_height_field_tier_against_mitsuba() {
                 name,
                 "heightfield",
                 l,
-                &s.settings,
-                Some(&hf),
+                (&s.settings, Some(&hf)),
                 bound,
             );
             assert!(n > 50, "{field} {name}: too few cloud pixels ({n})");
