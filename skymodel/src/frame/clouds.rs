@@ -186,6 +186,10 @@ impl CloudFrame {
         let height_field = low
             .filter(|_| c.low.tier == LowCloudTier::Heightfield)
             .map(|f| Arc::new(HeightField::build(&f, &shell, &dirs, &march)));
+        let height_field_ms = match height_field {
+            Some(_) => clock.elapsed().as_secs_f64() * 1e3,
+            None => 0.0,
+        };
         let mut frame = CloudFrame {
             low,
             high: c.has_high().then(|| HighField::new(&c.high, seconds)),
@@ -193,7 +197,7 @@ impl CloudFrame {
             march,
             march_stride: c.low.march_stride,
             height_field,
-            height_field_ms: clock.elapsed().as_secs_f64() * 1e3,
+            height_field_ms,
             ambient_rgb,
             ground_direct,
             ground_at_observer: Vec::new(),
