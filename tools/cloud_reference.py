@@ -43,6 +43,18 @@ Usage (from the repository root):
 
     /tmp/venv/bin/python tools/cloud_reference.py [--spp 1024] [--shadow-spp 64]
         [--out tests/fixtures/cloud_ref] [--only sun20_radiance ...]
+        [--seed 17] [--max-depth -1]
+
+`--seed` changes the sampler's seeds (the committed references use 17): an
+independent copy at the same spp, compared with the committed image in the
+test's metric, measures the reference's own noise (README, "The
+reference's noise is not what is left"):
+
+    /tmp/venv/bin/python tools/cloud_reference.py --out /tmp/copy --spp 16384 \
+        --only sun20_radiance --seed 1017
+
+`--max-depth 2` renders single scattering alone (a diagnostic: which order
+of scattering carries an error).
 
 Mitsuba 3 is BSD-3-Clause (Wenzel Jakob et al.).
 """
@@ -134,12 +146,12 @@ def film(w, h):
             "pixel_format": "rgb", "component_format": "float32"}
 
 
-def radiance_scene(setup, grid_path, sun):
+def radiance_scene(setup, grid_path, sun, max_depth=-1):
     cam = setup["camera"]
     towards = unit_towards(sun["alt_deg"], sun["az_deg"])
     return mi.load_dict({
         "type": "scene",
-        "integrator": {"type": "volpath", "max_depth": -1, "rr_depth": 64},
+        "integrator": {"type": "volpath", "max_depth": max_depth, "rr_depth": 64},
         "sensor": {"type": "perspective", "fov_axis": "y", "fov": float(cam["fov_deg"]),
                    "near_clip": 1e-3, "far_clip": 1e3,
                    "to_world": mi.ScalarTransform4f().look_at(
@@ -201,6 +213,12 @@ def main():
     ap.add_argument("--out", default=os.path.join(ROOT, "tests/fixtures/cloud_ref"))
     ap.add_argument("--spp", type=int, default=1024)
     ap.add_argument("--shadow-spp", type=int, default=64)
+    ap.add_argument("--seed", type=int, default=17,
+                    help="base seed of the sampler (another value renders an independent copy, "
+                         "e.g. to measure the reference's own noise with the test's metric)")
+    ap.add_argument("--max-depth", type=int, default=-1,
+                    help="volpath's max_depth for the radiance (-1: all orders; 2: single "
+                         "scattering alone, a diagnostic)")
     ap.add_argument("--only", action="append", default=[],
                     help="render only these images (e.g. sun20_radiance), keeping the others "
                          "and their entries in references.json")
@@ -228,9 +246,10 @@ def main():
         ]:
             if args.only and f"{sun['name']}_{kind}" not in args.only:
                 continue
-            scene = make(setup, grid_path, sun)
+            scene = (make(setup, grid_path, sun, args.max_depth) if kind == "radiance"
+                     else make(setup, grid_path, sun))
             t0 = time.time()
-            a, b = render_halves(scene, spp, seed=17 + 100 * k)
+            a, b = render_halves(scene, spp, seed=args.seed + 100 * k)
             name = f"{sun['name']}_{kind}.exr"
             write_exr(os.path.join(args.out, name), 0.5 * (a + b))
             report["images"][name] = {"spp": spp, "noise": noise(a, b),

@@ -173,6 +173,7 @@ impl SkyRenderer for CpuRenderer {
             lut_source: plan.lut_origin,
             geometry_ms,
             sky_view_ms: plan.sky_view_ms,
+            cloud_maps_ms: plan.clouds.as_ref().map_or(0.0, |c| c.height_field_ms),
             lights,
         })
     }

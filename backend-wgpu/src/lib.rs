@@ -441,6 +441,7 @@ impl WgpuRenderer {
             precompute_ms: plan.precompute_ms,
             lut_source: plan.lut_origin,
             sky_view_ms: plan.sky_view_ms,
+            cloud_maps_ms: plan.clouds.as_ref().map_or(0.0, |c| c.height_field_ms),
             points,
             lights,
         })
@@ -661,6 +662,7 @@ impl SkyRenderer for WgpuRenderer {
             lut_source: frame.lut_source,
             geometry_ms: 0.0,
             sky_view_ms: frame.sky_view_ms,
+            cloud_maps_ms: frame.cloud_maps_ms,
             lights: frame.lights,
         })
     }

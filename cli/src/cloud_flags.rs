@@ -1,7 +1,8 @@
 //! The cloud flags of `himmel render`: `--clouds-coverage`,
-//! `--clouds-type` and `--cirrus-coverage` onto the scene's `clouds` keys.
+//! `--clouds-type`, `--cirrus-coverage` and `--clouds-tier` onto the
+//! scene's `clouds` keys.
 
-use himmel_skymodel::scene::LowCloudKind;
+use himmel_skymodel::scene::{LowCloudKind, LowCloudTier};
 use himmel_skymodel::{Effect, Scene};
 
 use crate::flag_values::finite;
@@ -16,6 +17,8 @@ pub(crate) struct CloudFlags<'a> {
     pub coverage: Option<f64>,
     /// `--cirrus-coverage`.
     pub cirrus_coverage: Option<f64>,
+    /// `--clouds-tier`.
+    pub tier: Option<&'a str>,
     /// Whether `--effects` listed the effects.
     pub effects_listed: bool,
 }
@@ -25,6 +28,17 @@ pub(crate) struct CloudFlags<'a> {
 /// did not list the effects.
 pub(crate) fn apply(a: CloudFlags, scene: &mut Scene) -> Result<(), CliError> {
     let c = &mut scene.clouds;
+    if let Some(t) = a.tier {
+        c.low.tier = match t.trim().to_ascii_lowercase().as_str() {
+            "volumetric" => LowCloudTier::Volumetric,
+            "heightfield" => LowCloudTier::Heightfield,
+            _ => {
+                return Err(CliError::input(format!(
+                    "--clouds-tier: unknown tier '{t}'; expected volumetric or heightfield"
+                )))
+            }
+        };
+    }
     let cirrus = match a.kind {
         None => false,
         Some(t) if t.trim().eq_ignore_ascii_case("cirrus") => true,

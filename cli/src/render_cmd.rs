@@ -162,6 +162,10 @@ pub struct RenderArgs {
     /// High cloud layer's (cirrus) coverage in [0, 1] (clouds.high.coverage).
     #[arg(long, value_name = "C")]
     cirrus_coverage: Option<f64>,
+    /// How the low layer is drawn: volumetric (the ray march, default) or
+    /// heightfield (the cheap height-field tier; clouds.low.tier).
+    #[arg(long, value_name = "TIER")]
+    clouds_tier: Option<String>,
 }
 
 #[derive(Args, Debug)]
@@ -351,6 +355,7 @@ fn build_scene(a: &RenderArgs) -> Result<Scene, CliError> {
             kind: a.clouds_type.as_deref(),
             coverage: a.clouds_coverage,
             cirrus_coverage: a.cirrus_coverage,
+            tier: a.clouds_tier.as_deref(),
             effects_listed: a.effects.is_some(),
         },
         &mut scene,
@@ -618,6 +623,7 @@ pub(crate) fn frame_stats(
         "lut_source": out.lut_source,
         "geometry_ms": out.geometry_ms,
         "sky_view_ms": out.sky_view_ms,
+        "cloud_maps_ms": out.cloud_maps_ms,
         "write_ms": frame.write_ms,
         "overlay_ms": frame.overlay_ms,
         "ev100": frame.ev100,

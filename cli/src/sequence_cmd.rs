@@ -259,6 +259,7 @@ impl SequenceRun<'_> {
                 "precompute_ms": w.out.precompute_ms,
                 "lut_source": w.out.lut_source,
                 "sky_view_ms": w.out.sky_view_ms,
+                "cloud_maps_ms": w.out.cloud_maps_ms,
                 "passes": passes,
                 "non_finite_pixels": w
                     .out

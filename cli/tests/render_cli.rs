@@ -619,6 +619,12 @@ fn cloud_flags_and_keys() {
         err.starts_with("error: --clouds-type") && err.contains("cumulus"),
         "{err}"
     );
+    let (code, _, err) = render(&["--clouds-tier", "sprites", "--output", &out]);
+    assert_eq!(code, 2, "{err}");
+    assert!(
+        err.starts_with("error: --clouds-tier") && err.contains("heightfield"),
+        "{err}"
+    );
     let (code, _, err) = render(&["--clouds-coverage", "1.5", "--output", &out]);
     assert_eq!(code, 2, "{err}");
     assert!(
@@ -626,10 +632,17 @@ fn cloud_flags_and_keys() {
         "{err}"
     );
     let stats = tmp("clouds_stats.json");
-    for backend in ["cpu", "wgpu"] {
+    for (backend, tier) in [
+        ("cpu", "volumetric"),
+        ("wgpu", "volumetric"),
+        ("cpu", "heightfield"),
+        ("wgpu", "heightfield"),
+    ] {
         let (code, _, err) = render(&[
             "--backend",
             backend,
+            "--clouds-tier",
+            tier,
             "--clouds-type",
             "stratocumulus",
             "--cirrus-coverage",
@@ -649,6 +662,12 @@ fn cloud_flags_and_keys() {
         let s: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(&stats).unwrap()).unwrap();
         assert_eq!(s["backend"], backend);
+        let maps = s["cloud_maps_ms"].as_f64().unwrap();
+        assert_eq!(
+            maps > 0.0,
+            tier == "heightfield",
+            "{backend} {tier}: {maps}"
+        );
         let clouds = s["passes"]
             .as_array()
             .unwrap()
@@ -667,6 +686,7 @@ fn cloud_flags_and_keys() {
     let v: serde_json::Value = serde_json::from_str(&t).unwrap();
     assert_eq!(v["clouds"]["low"]["coverage"], 0.0);
     assert_eq!(v["clouds"]["low"]["kind"], "cumulus");
+    assert_eq!(v["clouds"]["low"]["tier"], "volumetric");
     assert_eq!(v["clouds"]["high"]["altitude_km"], 9.0);
 }
 

@@ -56,6 +56,20 @@ pub enum CloudScattering {
     Octaves,
 }
 
+/// How the low layer is drawn (`clouds.low.tier`; [`crate::clouds::height_field`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum LowCloudTier {
+    /// The ray-marched volume (the default): the density field sampled
+    /// along the view ray, a light march per step.
+    Volumetric,
+    /// The cheap tier after Dubé (2005): the field reduced once per frame
+    /// to 2D maps of each column's cloud bottom, top and mean extinction,
+    /// the view and light rays intersected with that height-field volume
+    /// by a few probes.
+    Heightfield,
+}
+
 /// The low, volumetric cloud layer (`clouds.low`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -94,6 +108,9 @@ pub struct LowCloudSpec {
     /// between four grid pixels that agree is interpolated from them, and
     /// the others (cloud edges) are marched.
     pub march_stride: u32,
+    /// `volumetric` (default) or `heightfield`: the ray-marched volume or
+    /// the cheap height-field tier.
+    pub tier: LowCloudTier,
 }
 
 impl Default for LowCloudSpec {
@@ -112,6 +129,7 @@ impl Default for LowCloudSpec {
             extent_km: 0.0,
             scattering: CloudScattering::Diffusion,
             march_stride: 1,
+            tier: LowCloudTier::Volumetric,
         }
     }
 }
@@ -257,6 +275,14 @@ mod tests {
         c.high.optical_depth = 0.5;
         c.high.wind_m_s[1] = 300.0;
         assert_eq!(c.validate().unwrap_err().field, "clouds.high.wind_m_s[1]");
+    }
+
+    #[test]
+    fn tiers_parse() {
+        let l: LowCloudSpec = serde_json::from_str(r#"{"tier": "heightfield"}"#).unwrap();
+        assert_eq!(l.tier, LowCloudTier::Heightfield);
+        assert_eq!(LowCloudSpec::default().tier, LowCloudTier::Volumetric);
+        assert!(serde_json::from_str::<LowCloudSpec>(r#"{"tier": "sprites"}"#).is_err());
     }
 
     #[test]

@@ -65,6 +65,10 @@ pub struct RenderOutput {
     pub geometry_ms: f64,
     /// Time spent on the per-frame sky-view LUT (part of the atmosphere pass), ms.
     pub sky_view_ms: f64,
+    /// Time spent building the low cloud layer's height-field maps
+    /// (`clouds.low.tier = "heightfield"`: on the CPU, in the frame plan,
+    /// before the clouds pass), ms; 0 without them.
+    pub cloud_maps_ms: f64,
     /// The Sun and Moon as directional lights and the sky's horizontal
     /// illuminance at this instant (what a 3D world receives).
     pub lights: ObserverLights,

@@ -7,7 +7,7 @@ use serde::{Deserialize, Serialize};
 use crate::atmosphere::{AtmosphereParams, LutConfig};
 use crate::camera::Exposure;
 pub use crate::cloud_spec::{
-    CloudScattering, CloudsSpec, HighCloudSpec, LowCloudKind, LowCloudSpec,
+    CloudScattering, CloudsSpec, HighCloudSpec, LowCloudKind, LowCloudSpec, LowCloudTier,
 };
 pub use crate::overlay_spec::OverlaySpec;
 use crate::projection::Camera;

@@ -2,14 +2,16 @@
 //! clouds`): the low layer's march (default cumulus at coverage 0.6, 64
 //! steps per slab, 6 light steps) with each multiple-scattering model
 //! (the diffusion solution, two light marches per step; Wrenninge's six
-//! octaves, one) and the high layer's shading, over a fan of 256 view rays
-//! above 20° altitude.
+//! octaves, one), the height-field tier's probes through its maps and the
+//! maps' build (once per frame; `clouds.low.tier = "heightfield"`), and
+//! the high layer's shading, over a fan of 256 view rays above 20°
+//! altitude.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use himmel_skymodel::clouds::{
-    march_low, shade_high, CloudLight, HighField, LowField, MarchSettings, MultipleScattering,
-    Shell, DIFFUSION, OCTAVES,
+    march_height_field, march_low, shade_high, CloudLight, HeightField, HighField, LowField,
+    MarchSettings, MultipleScattering, Shell, DIFFUSION, OCTAVES,
 };
 use himmel_skymodel::scene::{HighCloudSpec, LowCloudSpec};
 
@@ -66,6 +68,26 @@ fn bench(c: &mut Criterion) {
             })
         });
     }
+    let settings = MarchSettings {
+        steps: 64,
+        light_steps: 6,
+        scattering: MultipleScattering::Diffusion(DIFFUSION),
+    };
+    let dirs = [lights[0].dir];
+    c.bench_function("clouds/height_field_maps_build", |b| {
+        b.iter(|| HeightField::build(&low, &shell, &dirs, &settings).n)
+    });
+    let hf = HeightField::build(&low, &shell, &dirs, &settings);
+    c.bench_function("clouds/height_field_256_rays_diffusion", |b| {
+        b.iter(|| {
+            rays.iter()
+                .map(|&v| {
+                    march_height_field(&hf, &low, &shell, v, &lights, [1.0e3; 3], &settings)
+                        .transmittance
+                })
+                .sum::<f32>()
+        })
+    });
     c.bench_function("clouds/high_shade_256_rays", |b| {
         b.iter(|| {
             rays.iter()

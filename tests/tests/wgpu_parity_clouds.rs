@@ -13,7 +13,7 @@
 mod wgpu_common;
 
 use himmel_cpu::CpuRenderer;
-use himmel_skymodel::scene::{CloudsSpec, LowCloudKind};
+use himmel_skymodel::scene::{CloudsSpec, LowCloudKind, LowCloudTier};
 use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
 use wgpu_common::{assert_parity, gpu, percentile, scene};
@@ -147,6 +147,29 @@ fn isolated_cumulus_patch_without_atmosphere() {
         c.low.top_km = 2.0;
     });
     cloud_parity("isolated cumulus patch, no atmosphere, fisheye 128²", &s);
+}
+
+/// The height-field tier (`clouds.low.tier = "heightfield"`): the maps
+/// built once in skymodel, read by both backends; cumulus at noon through
+/// the atmosphere, and the isolated patch of the Mitsuba comparison.
+#[test]
+fn height_field_tier() {
+    let s = cloudy(fisheye("2024-06-21T11:00:00Z", &DAY), |c| {
+        c.low.coverage = 0.45;
+        c.low.tier = LowCloudTier::Heightfield;
+    });
+    cloud_parity("height-field cumulus 0.45 at noon, fisheye 128²", &s);
+    let s = cloudy(fisheye("2024-06-21T11:00:00Z", &[]), |c| {
+        c.low.coverage = 0.6;
+        c.low.extent_km = 2.0;
+        c.low.base_km = 1.0;
+        c.low.top_km = 2.0;
+        c.low.tier = LowCloudTier::Heightfield;
+    });
+    cloud_parity(
+        "height-field isolated patch, no atmosphere, fisheye 128²",
+        &s,
+    );
 }
 
 /// Stratocumulus under the full Moon with the night passes: the Moon lights

@@ -1,6 +1,6 @@
 //! The clouds pass (`shaders/clouds.wgsl`, its own bind group 1: the
 //! [`CloudUniforms`], the atmosphere's uniforms and its transmittance and
-//! multiple-scattering LUTs): the frame plan's [`CloudFrame`] per pixel
+//! multiple-scattering LUTs, the height-field tier's maps): the frame plan's [`CloudFrame`] per pixel
 //! as the CPU's `PixelPass::Clouds` composes it — the high layer, then the
 //! low one, each over what the earlier passes drew (stars, planets, Milky
 //! Way and Moon dimmed by the layer's transmittance), with the aerial
@@ -21,6 +21,7 @@ use himmel_skymodel::clouds::field::{
     ProfileShape, CLOSE_DECK, CLOSE_FROM, HIGH_OCTAVES, LOW_OCTAVES, NOISE_CONTRAST,
     NOISE_PERIOD_CELLS,
 };
+use himmel_skymodel::clouds::height_field::PROBE_DIVISOR;
 use himmel_skymodel::clouds::march::MAX_MARCH_KM;
 use himmel_skymodel::clouds::noise::OCTAVE_SHIFT;
 use himmel_skymodel::clouds::{MultipleScattering, Octaves, CLOUD_PHASE, OCTAVES};
@@ -38,14 +39,16 @@ use crate::gpu::{bind_group, storage_entry, uniform_entry, Gpu};
 use crate::pass::{Dispatch, Groups};
 use crate::uniforms::AtmosphereUniforms;
 
-/// The clouds pass: frame.wgsl, clouds.wgsl and its diffusion model
-/// (clouds_diffusion.wgsl), then the atmosphere's
+/// The clouds pass: frame.wgsl, clouds.wgsl, its diffusion model
+/// (clouds_diffusion.wgsl) and its height-field tier
+/// (clouds_heightfield.wgsl), then the atmosphere's
 /// uniforms and lookups (atmo.wgsl), the medium (medium.wgsl) and the
 /// bilinear lookup (bilinear.wgsl).
 pub const CLOUDS_WGSL: &str = concat!(
     include_str!("../shaders/frame.wgsl"),
     include_str!("../shaders/clouds.wgsl"),
     include_str!("../shaders/clouds_diffusion.wgsl"),
+    include_str!("../shaders/clouds_heightfield.wgsl"),
     include_str!("../shaders/atmo.wgsl"),
     include_str!("../shaders/medium.wgsl"),
     include_str!("../shaders/bilinear.wgsl")
@@ -53,7 +56,8 @@ pub const CLOUDS_WGSL: &str = concat!(
 
 /// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
 /// cloud fields, the model's constants, the lights and the aerial
-/// perspective's inputs, the ground's cloud shadows. 480 bytes.
+/// perspective's inputs, the ground's cloud shadows, the height-field
+/// tier's maps. 512 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CloudUniforms {
@@ -188,9 +192,15 @@ pub struct CloudUniforms {
     /// `Diffusion::gap_density`, `surface_step`, `surface_weight` and
     /// `forward_orders` (0 with the octaves model).
     pub diffusion_shape: [f32; 4],
+    /// The height-field tier (`clouds_heightfield.wgsl`): `PROBE_DIVISOR`
+    /// (0: the volumetric tier), `HeightField::n`, `half_width_km`,
+    /// `texel_km`.
+    pub hf_map: [f32; 4],
+    /// `HeightField::warp_km`, the number of `light_dirs`, 0, 0.
+    pub hf_warp: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 480);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 512);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -279,6 +289,15 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
         u.high_optical_depth = f.optical_depth;
         u.high_seed = f.seed;
     }
+    if let Some(hf) = &c.height_field {
+        u.hf_map = [
+            PROBE_DIVISOR as f32,
+            hf.n as f32,
+            hf.half_width_km,
+            hf.texel_km,
+        ];
+        u.hf_warp = [hf.warp_km, hf.light_dirs.len().min(2) as f32, 0.0, 0.0];
+    }
     u.ground_count = c.ground_direct.len().min(2) as u32;
     u.ground_flat = (c.shell.r_observer - c.shell.r_ground < 1e-3) as u32;
     for (k, g) in c.ground_direct.iter().take(2).enumerate() {
@@ -329,6 +348,7 @@ impl CloudsPass {
                     storage_entry(2, true),
                     storage_entry(3, true),
                     storage_entry(4, true),
+                    storage_entry(5, true),
                 ],
             });
         let pl = gpu.pipeline_layout("clouds", &[&sky.layout, &layout]);
@@ -372,6 +392,24 @@ impl CloudsPass {
                 })
         };
         let uniform = init("cloud uniforms", bytemuck::bytes_of(&u));
+        // The height-field tier's maps (a stand-in without them).
+        let columns = match &c.height_field {
+            Some(hf) => {
+                let all: Vec<[f32; 4]> = hf
+                    .columns
+                    .iter()
+                    .chain(&hf.light_columns)
+                    .copied()
+                    .collect();
+                gpu.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("cloud height field"),
+                        contents: bytemuck::cast_slice(&all),
+                        usage: wgpu::BufferUsages::STORAGE,
+                    })
+            }
+            None => self.no_luts(gpu),
+        };
         let atmo = init("cloud atmosphere", bytemuck::bytes_of(&atmo));
         let group = bind_group(
             &gpu.device,
@@ -383,6 +421,7 @@ impl CloudsPass {
                 luts[0].as_entire_binding(),
                 luts[1].as_entire_binding(),
                 luts[2].as_entire_binding(),
+                columns.as_entire_binding(),
             ],
         );
         Ok(Some(Dispatch {
@@ -492,6 +531,8 @@ mod tests {
                 ground1_dir,
                 ground1_rgb,
                 diffusion_shape,
+                hf_map,
+                hf_warp,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);

@@ -113,6 +113,11 @@ struct Clouds {
     // march.rs `Diffusion`: gap_density, surface_step, surface_weight,
     // forward_orders (clouds_diffusion.wgsl)
     diffusion_shape: vec4<f32>,
+    // height_field.rs (clouds_heightfield.wgsl): `PROBE_DIVISOR` (0: the
+    // volumetric tier), texels per side, half-width (km), texel (km); the
+    // warp's distance (km, 0: a regular grid), the number of light maps
+    hf_map: vec4<f32>,
+    hf_warp: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;
@@ -529,6 +534,9 @@ fn low_hit(view: vec3<f32>) -> CloudHit {
     let sl = slab(view, clouds.low_base_km, clouds.low_top_km);
     if (sl.z == 0.0) {
         return clear_hit();
+    }
+    if (clouds.hf_map.x > 0.0) {
+        return march_height_field(view, lights_at(view, sl.x), clouds.ambient);
     }
     return march_low(view, lights_at(view, sl.x), clouds.ambient);
 }

@@ -368,7 +368,7 @@ impl Shell {
 
 /// The ray's interval inside the sphere of radius `r` from radius `r0`
 /// at zenith cosine `mu` (may start behind the origin).
-fn inside_sphere(r0: f32, mu: f32, r: f32) -> Option<(f32, f32)> {
+pub(crate) fn inside_sphere(r0: f32, mu: f32, r: f32) -> Option<(f32, f32)> {
     let disc = r0 * r0 * (mu * mu - 1.0) + r * r;
     (disc >= 0.0).then(|| {
         let s = safe_sqrt(disc);
@@ -426,7 +426,7 @@ impl CloudHit {
 
 /// Steps of a march over `len` km where `steps` span the slab's
 /// `thickness` (longer slant paths get more steps, up to 4 × `steps`).
-fn step_count(len: f32, thickness: f32, steps: u32) -> u32 {
+pub(crate) fn step_count(len: f32, thickness: f32, steps: u32) -> u32 {
     let dt = thickness / steps as f32;
     ((len / dt).ceil() as u32).clamp(1, 4 * steps)
 }

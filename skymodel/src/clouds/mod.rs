@@ -6,6 +6,9 @@
 //!   WGSL;
 //! * [`field`] — the density fields: [`LowField`] (3D extinction, km⁻¹)
 //!   and [`HighField`] (2D vertical optical depth);
+//! * [`height_field`] — the cheap tier of the low layer: the field
+//!   reduced to per-column bottom, top and mean extinction maps, rays
+//!   intersected with that volume by a few probes (Dubé 2005);
 //! * [`march`] — the view ray's march through the low layer with
 //!   self-shadowing and Wrenninge's multiple-scattering octaves, the
 //!   optical depth of a ray (the direct Sun's transmittance), and the high
@@ -19,10 +22,12 @@
 //! `tests/tests/cloud_mitsuba.rs`).
 
 pub mod field;
+pub mod height_field;
 pub mod march;
 pub mod noise;
 
 pub use field::{HighField, LowField};
+pub use height_field::{march_height_field, HeightField};
 pub use march::{
     diffuse_source, forward_lobes, forward_source, march_low, optical_depth_connected,
     optical_depth_low, optical_depth_ray, optical_depth_through, optical_depth_to_light,

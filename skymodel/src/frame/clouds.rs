@@ -40,12 +40,12 @@ use super::lights::AerialPerspective;
 use super::sky_light::SkyInputs;
 use crate::atmosphere::{AtmosphereLuts, SkyView};
 use crate::clouds::{
-    march_low, shade_high, CloudHit, CloudLight, HighField, LowField, MarchSettings,
-    MultipleScattering, Shell, DIFFUSION, OCTAVES,
+    march_height_field, march_low, shade_high, CloudHit, CloudLight, HeightField, HighField,
+    LowField, MarchSettings, MultipleScattering, Shell, DIFFUSION, OCTAVES,
 };
 use crate::moon::lunar_reflectance_spectrum;
-use crate::scene::CloudScattering;
 use crate::scene::Scene;
+use crate::scene::{CloudScattering, LowCloudTier};
 use crate::spectrum::{BandWeights, Spectrum};
 use crate::state::SkyState;
 
@@ -100,6 +100,12 @@ pub struct CloudFrame {
     pub march: MarchSettings,
     /// Amortised marching: the grid's stride in pixels (1: every pixel).
     pub march_stride: u32,
+    /// The low layer's height-field maps when `clouds.low.tier` is
+    /// `heightfield` (built here, once per frame; none: the volumetric
+    /// march).
+    pub height_field: Option<Arc<HeightField>>,
+    /// Time spent building [`Self::height_field`], ms.
+    pub height_field_ms: f64,
     /// The sky's mean downward radiance, linear sRGB, cd/m².
     pub ambient_rgb: [f32; 3],
     /// The direct part of the ground's luminance below the horizon, per
@@ -166,19 +172,32 @@ impl CloudFrame {
                 .collect(),
             _ => Vec::new(),
         };
+        let low = c.has_low().then(|| LowField::new(&c.low, seconds));
+        let march = MarchSettings {
+            steps: c.low.steps,
+            light_steps: c.low.light_steps,
+            scattering: match c.low.scattering {
+                CloudScattering::Diffusion => MultipleScattering::Diffusion(DIFFUSION),
+                CloudScattering::Octaves => MultipleScattering::Octaves(OCTAVES),
+            },
+        };
+        let dirs: Vec<Vec3> = lights.iter().map(|l| l.dir).collect();
+        let clock = std::time::Instant::now();
+        let height_field = low
+            .filter(|_| c.low.tier == LowCloudTier::Heightfield)
+            .map(|f| Arc::new(HeightField::build(&f, &shell, &dirs, &march)));
+        let height_field_ms = match height_field {
+            Some(_) => clock.elapsed().as_secs_f64() * 1e3,
+            None => 0.0,
+        };
         let mut frame = CloudFrame {
-            low: c.has_low().then(|| LowField::new(&c.low, seconds)),
+            low,
             high: c.has_high().then(|| HighField::new(&c.high, seconds)),
             shell,
-            march: MarchSettings {
-                steps: c.low.steps,
-                light_steps: c.low.light_steps,
-                scattering: match c.low.scattering {
-                    CloudScattering::Diffusion => MultipleScattering::Diffusion(DIFFUSION),
-                    CloudScattering::Octaves => MultipleScattering::Octaves(OCTAVES),
-                },
-            },
+            march,
             march_stride: c.low.march_stride,
+            height_field,
+            height_field_ms,
             ambient_rgb,
             ground_direct,
             ground_at_observer: Vec::new(),
@@ -232,7 +251,18 @@ impl CloudFrame {
             return CloudHit::CLEAR;
         };
         let lights = self.lights_at(view, t0);
-        march_low(f, &self.shell, view, &lights, self.ambient_rgb, &self.march)
+        match &self.height_field {
+            Some(hf) => march_height_field(
+                hf,
+                f,
+                &self.shell,
+                view,
+                &lights,
+                self.ambient_rgb,
+                &self.march,
+            ),
+            None => march_low(f, &self.shell, view, &lights, self.ambient_rgb, &self.march),
+        }
     }
 
     /// The high layer along `view` (no aerial perspective).
