@@ -350,6 +350,27 @@ struct CloudHit {
     distance_km: f32,
 }
 
+// march.rs `CloudHit::add`: a segment of optical depth tau at t km whose
+// source is src + ambient (0.4 + 0.6 h); whether the ray's light is spent.
+fn hit_add(hit: ptr<function, CloudHit>, tau: f32, t: f32, src: vec3<f32>, ambient: vec3<f32>, h: f32) -> bool {
+    let seg = exp(-tau);
+    let w = (*hit).transmittance * (1.0 - seg);
+    (*hit).radiance = (*hit).radiance + w * (src + ambient * (0.4 + 0.6 * h));
+    (*hit).distance_km = (*hit).distance_km + w * t;
+    (*hit).transmittance = (*hit).transmittance * seg;
+    return (*hit).transmittance < 1e-4;
+}
+
+// march.rs `CloudHit::finish`: the extinction-weighted mean distance.
+fn hit_finish(hit: CloudHit, t0: f32) -> CloudHit {
+    let ext = 1.0 - hit.transmittance;
+    var d = t0;
+    if (ext > 0.0) {
+        d = hit.distance_km / ext;
+    }
+    return CloudHit(hit.radiance, hit.transmittance, d);
+}
+
 fn clear_hit() -> CloudHit {
     return CloudHit(vec3<f32>(0.0), 1.0, 0.0);
 }
@@ -393,9 +414,7 @@ fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudH
             lobes[j] = forward_lobes(dot(view, ls.dir[j]));
         }
     }
-    var l = vec3<f32>(0.0);
-    var tr = 1.0;
-    var dist = 0.0;
+    var hit = CloudHit(vec3<f32>(0.0), 1.0, 0.0);
     for (var s = 0u; s < n; s = s + 1u) {
         let t = t0 + (f32(s) + 0.5) * dt;
         let pos = origin + view * t;
@@ -427,22 +446,11 @@ fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudH
             src = src + f * ls.rgb[j];
         }
         let hf = clamp((h - clouds.low_base_km) / thickness, 0.0, 1.0);
-        let amb = 0.4 + 0.6 * hf;
-        let seg = exp(-sigma * dt);
-        let w = tr * (1.0 - seg);
-        l = l + w * (src + ambient * amb);
-        dist = dist + w * t;
-        tr = tr * seg;
-        if (tr < 1e-4) {
+        if (hit_add(&hit, sigma * dt, t, src, ambient, hf)) {
             break;
         }
     }
-    let ext = 1.0 - tr;
-    var d = t0;
-    if (ext > 0.0) {
-        d = dist / ext;
-    }
-    return CloudHit(l, tr, d);
+    return hit_finish(hit, t0);
 }
 // ======================= march.rs `march_low` — END =========================
 

@@ -183,9 +183,7 @@ fn march_height_field(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) 
             lobes[j] = forward_lobes(dot(view, ls.dir[j]));
         }
     }
-    var l = vec3<f32>(0.0);
-    var tr = 1.0;
-    var dist = 0.0;
+    var hit = CloudHit(vec3<f32>(0.0), 1.0, 0.0);
     for (var s = 0u; s < n; s = s + 1u) {
         let ta = t0 + f32(s) * dt;
         let t = ta + 0.5 * dt;
@@ -213,20 +211,10 @@ fn march_height_field(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) 
             src = src + probe_source(lobes[j], cos_t, taus.x, taus.y, mu0) * ls.rgb[j];
         }
         let h = length(pos) - clouds.r_ground;
-        let amb = 0.4 + 0.6 * clamp((h - clouds.low_base_km) / thickness, 0.0, 1.0);
-        let seg = exp(-tau_seg);
-        let w = tr * (1.0 - seg);
-        l = l + w * (src + ambient * amb);
-        dist = dist + w * t;
-        tr = tr * seg;
-        if (tr < 1e-4) {
+        let hf = clamp((h - clouds.low_base_km) / thickness, 0.0, 1.0);
+        if (hit_add(&hit, tau_seg, t, src, ambient, hf)) {
             break;
         }
     }
-    let ext = 1.0 - tr;
-    var d = t0;
-    if (ext > 0.0) {
-        d = dist / ext;
-    }
-    return CloudHit(l, tr, d);
+    return hit_finish(hit, t0);
 }

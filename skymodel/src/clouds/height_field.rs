@@ -463,7 +463,7 @@ pub fn march_height_field(
             MultipleScattering::Octaves(_) => [0.0; MAX_FORWARD_ORDERS],
         })
         .collect();
-    let (mut l, mut tr, mut dist) = ([0.0f32; 3], 1.0f32, 0.0f32);
+    let mut hit = CloudHit::CLEAR;
     for s in 0..n {
         let ta = t0 + s as f32 * dt;
         let t = ta + 0.5 * dt;
@@ -494,24 +494,11 @@ pub fn march_height_field(
             }
         }
         let hf_frac = ((height(t) - field.base_km) / field.thickness_km()).clamp(0.0, 1.0);
-        let amb = 0.4 + 0.6 * hf_frac;
-        let seg = (-tau_seg).exp();
-        let w = tr * (1.0 - seg);
-        for c in 0..3 {
-            l[c] += w * (src[c] + ambient[c] * amb);
-        }
-        dist += w * t;
-        tr *= seg;
-        if tr < 1e-4 {
+        if hit.add(tau_seg, t, src, ambient, hf_frac) {
             break;
         }
     }
-    let ext = 1.0 - tr;
-    CloudHit {
-        radiance: l,
-        transmittance: tr,
-        distance_km: if ext > 0.0 { dist / ext } else { t0 },
-    }
+    hit.finish(t0)
 }
 
 #[cfg(test)]

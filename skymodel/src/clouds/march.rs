@@ -422,6 +422,42 @@ impl CloudHit {
         transmittance: 1.0,
         distance_km: 0.0,
     };
+
+    /// Adds a segment of optical depth `tau` at `t` km along the ray whose
+    /// source is `src` plus `ambient` × (0.4 + 0.6 `h`), `h` the height's
+    /// fraction of the slab (the sky's light weaker low in the cloud);
+    /// `distance_km` sums here until [`CloudHit::finish`]. Whether the
+    /// ray's light is spent (transmittance below 10⁻⁴).
+    pub(crate) fn add(
+        &mut self,
+        tau: f32,
+        t: f32,
+        src: [f32; 3],
+        ambient: [f32; 3],
+        h: f32,
+    ) -> bool {
+        let amb = 0.4 + 0.6 * h;
+        let seg = (-tau).exp();
+        let w = self.transmittance * (1.0 - seg);
+        for c in 0..3 {
+            self.radiance[c] += w * (src[c] + ambient[c] * amb);
+        }
+        self.distance_km += w * t;
+        self.transmittance *= seg;
+        self.transmittance < 1e-4
+    }
+
+    /// The hit with its extinction-weighted mean distance (`t0` where
+    /// nothing was extinguished).
+    pub(crate) fn finish(mut self, t0: f32) -> CloudHit {
+        let ext = 1.0 - self.transmittance;
+        self.distance_km = if ext > 0.0 {
+            self.distance_km / ext
+        } else {
+            t0
+        };
+        self
+    }
 }
 
 /// Steps of a march over `len` km where `steps` span the slab's
@@ -492,9 +528,7 @@ pub fn march_low(
             p
         })
         .collect();
-    let mut l = [0.0f32; 3];
-    let mut tr = 1.0f32;
-    let mut dist = 0.0f32;
+    let mut hit = CloudHit::CLEAR;
     let lobes: Vec<[f32; MAX_FORWARD_ORDERS]> = lights
         .iter()
         .map(|lt| match scattering {
@@ -532,24 +566,11 @@ pub fn march_low(
             }
         }
         let hf = ((h - field.base_km) / field.thickness_km()).clamp(0.0, 1.0);
-        let amb = 0.4 + 0.6 * hf;
-        let seg = (-sigma * dt).exp();
-        let w = tr * (1.0 - seg);
-        for c in 0..3 {
-            l[c] += w * (src[c] + ambient[c] * amb);
-        }
-        dist += w * t;
-        tr *= seg;
-        if tr < 1e-4 {
+        if hit.add(sigma * dt, t, src, ambient, hf) {
             break;
         }
     }
-    let ext = 1.0 - tr;
-    CloudHit {
-        radiance: l,
-        transmittance: tr,
-        distance_km: if ext > 0.0 { dist / ext } else { t0 },
-    }
+    hit.finish(t0)
 }
 
 /// Optical depth of the low layer from `pos` (inside or outside it) along
