@@ -158,7 +158,14 @@ impl Bounce {
         if self.lit.as_ref().map(|l| l.0) != Some(size) {
             let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
             let dims = (size.0, size.1, 1);
-            let tex = texture(gpu, "bounce lit", dims, wgpu::TextureDimension::D2, FORMAT, usage);
+            let tex = texture(
+                gpu,
+                "bounce lit",
+                dims,
+                wgpu::TextureDimension::D2,
+                FORMAT,
+                usage,
+            );
             self.lit = Some((size, tex));
         }
         let Some((_, lit)) = self.lit.as_ref() else {

@@ -238,7 +238,11 @@ impl LightingPasses {
         stats.extend(shadows);
         stats.extend(shafts);
         if let Some(gb) = self.gbuffer.as_ref() {
-            let extent = self.world.as_ref().and_then(|w| w.bounds).map(|b| b.extent());
+            let extent = self
+                .world
+                .as_ref()
+                .and_then(|w| w.bounds)
+                .map(|b| b.extent());
             stats.extend(self.bounce.step(gpu, inputs, gb, extent, (&cam, target))?);
         }
         if let Some(gb) = self.gbuffer.as_ref().filter(|_| inputs.ssr) {

@@ -82,6 +82,8 @@ fn ign(q: vec2<u32>, o: f32) -> f32 {
 fn trace(p: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec3<f32> {
     let steps = max(b.q.y, 1u);
     let r = b.params.x;
+    // Whether the last point looked at lay in front of the surface there.
+    var front = true;
     for (var k = 0u; k < steps; k++) {
         let f = (f32(k) + j) / f32(steps);
         let t = r * f * f;
@@ -101,7 +103,11 @@ fn trace(p: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec3<f32> {
         // larger of two step lengths and 5 % of its depth.
         let thick = max(2.0 * r * (2.0 * f * f32(steps) + 1.0) / f32(steps * steps), 0.05 * zq);
         let behind = s.z - zq;
-        if behind > 1e-3 * zq && behind < thick {
+        // A hit: behind by less than the thickness, or the ray crossed the
+        // surface between this point and the last (steep rays onto a floor
+        // seen at grazing angles pass far behind it within one step).
+        let crossed = front && behind < 4.0 * thick;
+        if behind > 1e-3 * zq && (behind < thick || crossed) {
             let nq = textureLoad(g_normal, q, 0).xyz;
             if dot(nq, w) >= 0.0 {
                 // Its back: the ray is blocked, nothing comes this way.
@@ -109,6 +115,7 @@ fn trace(p: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec3<f32> {
             }
             return textureLoad(lit, q, 0).rgb;
         }
+        front = behind <= 1e-3 * zq;
     }
     return vec3<f32>(0.0);
 }
