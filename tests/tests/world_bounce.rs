@@ -8,8 +8,8 @@
 //! relative error Σ|ΔY| / ΣY_ref over the reference's mask: the boxes'
 //! walls in the Sun's shadow, beside the sunlit floor. Two references: the
 //! bounce from the surfaces the camera sees (`_bounce_onscreen.exr`, what
-//! a screen-space pass can gather: bound 30 %, the issue's) and the whole
-//! bounce (`_bounce.exr`: bound at the measured error plus 2 %).
+//! a screen-space pass can gather: bound at the measured error plus 1.5 %)
+//! and the whole bounce (`_bounce.exr`: bound 30 %, the issue's).
 //!
 //! `cargo test -p himmel-tests --test world_bounce -- --nocapture` prints
 //! the figures the README quotes; `HIMMEL_BOUNCE='{"bounce_samples": 64}'`
@@ -28,14 +28,15 @@ use world_common::metrics::{GEOMETRY, SUNLIT};
 const CASE: &str = "plane_and_boxes_high";
 
 /// The bound on the error against the bounce from on-screen surfaces
-/// (`_bounce_onscreen.exr`): the 30 %.
-const BOUND: f64 = 0.30;
+/// (`_bounce_onscreen.exr`): measured 8.5 % with the defaults, plus 1.5 %
+/// (the goal is 30 %), so that a change for the worse fails.
+const BOUND: f64 = 0.10;
 
 /// The bound on the error against the whole one-bounce light
-/// (`_bounce.exr`): measured 30.3 % (signed −25.4 %: the reference's bounce
-/// comes to 29 % from surfaces the camera does not see — the floor below
-/// the image's bottom edge and behind the camera), plus 2 %.
-const BOUND_ALL: f64 = 0.32;
+/// (`_bounce.exr`): the 30 %; measured 29.6 % (signed −25.4 %: the
+/// reference's bounce comes to 29 % from surfaces the camera does not see —
+/// the floor below the image's bottom edge and behind the camera).
+const BOUND_ALL: f64 = 0.30;
 
 fn root() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")

@@ -33,13 +33,22 @@ struct BounceUniforms {
 struct Pipes {
     layout: wgpu::BindGroupLayout,
     gather: wgpu::ComputePipeline,
+    blur: wgpu::ComputePipeline,
 }
 
-/// The bounce pass and its copy of the lit image, kept between frames.
+struct Images {
+    size: (u32, u32),
+    /// The copy of the lit target.
+    lit: wgpu::Texture,
+    /// The raw (unblurred) bounce.
+    raw: wgpu::TextureView,
+}
+
+/// The bounce pass and its images, kept between frames.
 #[derive(Default)]
 pub struct Bounce {
     pipes: Option<Pipes>,
-    lit: Option<((u32, u32), wgpu::Texture)>,
+    images: Option<Images>,
 }
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
@@ -83,6 +92,7 @@ fn pipes(gpu: &Gpu) -> Pipes {
                         view_dimension: wgpu::TextureViewDimension::D2,
                     },
                 ),
+                entry(7, tex(unfiltered)),
             ],
         });
     let module = gpu.shader(
@@ -92,6 +102,7 @@ fn pipes(gpu: &Gpu) -> Pipes {
     let pl = gpu.pipeline_layout("bounce", &[&layout]);
     Pipes {
         gather: gpu.compute_pipeline(&pl, &module, "gather"),
+        blur: gpu.compute_pipeline(&pl, &module, "blur"),
         layout,
     }
 }
@@ -101,7 +112,12 @@ fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> BounceUniforms 
     BounceUniforms {
         cam: cam.block(),
         params: [radius_m, 0.0, cam.jitter.x, cam.jitter.y],
-        q: [s.bounce_samples.max(1), s.bounce_steps.max(1), cam.frame, 0],
+        q: [
+            s.bounce_samples.max(1),
+            s.bounce_steps.max(1),
+            cam.frame,
+            s.blur_px,
+        ],
     }
 }
 
@@ -155,21 +171,21 @@ impl Bounce {
         let pipes = self.pipes.get_or_insert_with(|| pipes(gpu));
         let t = std::time::Instant::now();
         let size = (cam.width, cam.height);
-        if self.lit.as_ref().map(|l| l.0) != Some(size) {
-            let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
-            let dims = (size.0, size.1, 1);
-            let tex = texture(
-                gpu,
-                "bounce lit",
-                dims,
-                wgpu::TextureDimension::D2,
-                FORMAT,
-                usage,
-            );
-            self.lit = Some((size, tex));
+        if self.images.as_ref().map(|i| i.size) != Some(size) {
+            let image = |label, usage| {
+                let dims = (size.0, size.1, 1);
+                texture(gpu, label, dims, wgpu::TextureDimension::D2, FORMAT, usage)
+            };
+            let sampled = wgpu::TextureUsages::TEXTURE_BINDING;
+            self.images = Some(Images {
+                size,
+                lit: image("bounce lit", sampled | wgpu::TextureUsages::COPY_DST),
+                raw: image("bounce raw", sampled | wgpu::TextureUsages::STORAGE_BINDING)
+                    .create_view(&Default::default()),
+            });
         }
-        let Some((_, lit)) = self.lit.as_ref() else {
-            return Err(RenderError::Device("bounce image missing".into()));
+        let Some(img) = self.images.as_ref() else {
+            return Err(RenderError::Device("bounce images missing".into()));
         };
         let u = uniforms(cam, s, radius);
         let ubuf = wgpu::util::DeviceExt::create_buffer_init(
@@ -180,40 +196,45 @@ impl Bounce {
                 usage: wgpu::BufferUsages::UNIFORM,
             },
         );
-        let lit_view = lit.create_view(&Default::default());
+        let lit_view = img.lit.create_view(&Default::default());
         let out = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
             ..Default::default()
         });
         let tv = wgpu::BindingResource::TextureView;
-        let group = bind_group(
-            &gpu.device,
-            "bounce",
-            &pipes.layout,
-            &[
-                ubuf.as_entire_binding(),
-                tv(&gb.views[0]),
-                tv(&gb.views[1]),
-                tv(&gb.views[2]),
-                tv(&gb.views[3]),
-                tv(&lit_view),
-                tv(&out),
-            ],
-        );
+        let group = |out, raw| {
+            bind_group(
+                &gpu.device,
+                "bounce",
+                &pipes.layout,
+                &[
+                    ubuf.as_entire_binding(),
+                    tv(&gb.views[0]),
+                    tv(&gb.views[1]),
+                    tv(&gb.views[2]),
+                    tv(&gb.views[3]),
+                    tv(&lit_view),
+                    tv(out),
+                    tv(raw),
+                ],
+            )
+        };
+        let first = group(&img.raw, &lit_view);
+        let second = group(&out, &img.raw);
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         enc.copy_texture_to_texture(
             target.as_image_copy(),
-            lit.as_image_copy(),
+            img.lit.as_image_copy(),
             wgpu::Extent3d {
                 width: size.0,
                 height: size.1,
                 depth_or_array_layers: 1,
             },
         );
-        {
+        for (pipe, g) in [(&pipes.gather, &first), (&pipes.blur, &second)] {
             let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipes.gather);
-            pass.set_bind_group(0, &group, &[]);
+            pass.set_pipeline(pipe);
+            pass.set_bind_group(0, g, &[]);
             pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
         }
         gpu.queue.submit([enc.finish()]);
@@ -223,8 +244,8 @@ impl Bounce {
             ran: true,
             ms: Some(t.elapsed().as_secs_f64() * 1e3),
             reason: Some(format!(
-                "{} directions × {} steps, radius {radius:.2} m",
-                u.q[0], u.q[1]
+                "{} directions × {} steps, radius {radius:.2} m, blur {} px",
+                u.q[0], u.q[1], u.q[3]
             )),
         }))
     }
@@ -242,10 +263,11 @@ mod tests {
         let s = AoSettings {
             bounce_samples: 24,
             bounce_steps: 9,
+            blur_px: 3,
             ..AoSettings::default()
         };
         let u = uniforms(&cam, &s, 3.5);
-        assert_eq!(u.q, [24, 9, 7, 0]);
+        assert_eq!(u.q, [24, 9, 7, 3]);
         assert_eq!(u.params[0], 3.5);
         assert_eq!(std::mem::size_of::<BounceUniforms>(), 6 * 16);
     }

@@ -18,7 +18,11 @@
 // lighting pass wrote at x's pixel (a Lambertian surface sends the same
 // radiance every way); a hit surface that faces away from p, a ray that
 // leaves the image or goes beyond R adds nothing (screen space: what the
-// camera does not see does not bounce). Output = lit + L_b, cd/m².
+// camera does not see does not bounce). `gather` writes (1/N) Σ L_o per
+// pixel; `blur` averages it over a depth-aware box of (2 blur_px + 1)²
+// pixels on the same surface (normals within 25°, on the centre's plane
+// within 2 % of the distance, as ao.wgsl's blur) and writes lit + ρ × that,
+// cd/m² (the albedo applied after the blur keeps the texture sharp).
 
 struct Bounce {
     // xyz: eye; w: tan(fov / 2).
@@ -31,7 +35,7 @@ struct Bounce {
     up: vec4<f32>,
     // R (m), 0, the frame's jitter (px, x right, y down; temporal.rs).
     params: vec4<f32>,
-    // Directions, steps per direction, the frame's index, 0.
+    // Directions, steps per direction, the frame's index, blur half side.
     q: vec4<u32>,
 }
 
@@ -42,7 +46,10 @@ struct Bounce {
 @group(0) @binding(4) var g_material: texture_2d<u32>;
 // The lit image (a copy of the target after the lighting pass).
 @group(0) @binding(5) var lit: texture_2d<f32>;
+// gather: the raw bounce; blur: the target.
 @group(0) @binding(6) var out_tex: texture_storage_2d<rgba32float, write>;
+// blur: the raw bounce (gather: unused, the lit copy).
+@group(0) @binding(7) var raw: texture_2d<f32>;
 
 const PI: f32 = 3.14159265358979;
 // The golden angle as a fraction of a turn, (3 − √5) / 2.
@@ -126,11 +133,8 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     if any(me >= size()) {
         return;
     }
-    let here = textureLoad(lit, me, 0);
-    let base = textureLoad(g_base, me, 0);
-    let rho = base.rgb * (1.0 - base.a);
-    if textureLoad(g_material, me, 0).x == 0u || max(rho.r, max(rho.g, rho.b)) <= 0.0 {
-        textureStore(out_tex, me, here);
+    if !diffuse(me) {
+        textureStore(out_tex, me, vec4<f32>(0.0));
         return;
     }
     let n = normalize(textureLoad(g_normal, me, 0).xyz);
@@ -154,5 +158,53 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
         let w = t1 * (rad * cos(phi)) + t2 * (rad * sin(phi)) + n * sqrt(max(1.0 - u, 0.0));
         sum += trace(p, w, me, fract(j + f32(i) * 0.618034));
     }
-    textureStore(out_tex, me, vec4<f32>(here.rgb + rho * sum / f32(count), here.a));
+    textureStore(out_tex, me, vec4<f32>(sum / f32(count), 1.0));
+}
+
+// The diffuse albedo at pixel q.
+fn albedo(q: vec2<i32>) -> vec3<f32> {
+    let base = textureLoad(g_base, q, 0);
+    return base.rgb * (1.0 - base.a);
+}
+
+// Whether pixel q shows a surface with some diffuse albedo.
+fn diffuse(q: vec2<i32>) -> bool {
+    let rho = albedo(q);
+    return textureLoad(g_material, q, 0).x != 0u && max(rho.r, max(rho.g, rho.b)) > 0.0;
+}
+
+@compute @workgroup_size(8, 8)
+fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let me = vec2<i32>(gid.xy);
+    if any(me >= size()) {
+        return;
+    }
+    let here = textureLoad(lit, me, 0);
+    if !diffuse(me) {
+        textureStore(out_tex, me, here);
+        return;
+    }
+    let n = normalize(textureLoad(g_normal, me, 0).xyz);
+    let dist = textureLoad(g_distance, me, 0).x;
+    let p = b.eye.xyz + ray_at(vec2<f32>(me) + 0.5) * dist;
+    let r = i32(b.q.w);
+    var sum = vec3<f32>(0.0);
+    var weight = 0.0;
+    for (var dy = -r; dy <= r; dy++) {
+        for (var dx = -r; dx <= r; dx++) {
+            let q = me + vec2<i32>(dx, dy);
+            if any(q < vec2<i32>(0)) || any(q >= size()) || !diffuse(q) {
+                continue;
+            }
+            let nq = textureLoad(g_normal, q, 0).xyz;
+            let pq = b.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
+            if dot(nq, n) < 0.906 || abs(dot(pq - p, n)) > 0.02 * dist {
+                continue;
+            }
+            sum += textureLoad(raw, q, 0).rgb;
+            weight += 1.0;
+        }
+    }
+    let mean = sum / max(weight, 1.0);
+    textureStore(out_tex, me, vec4<f32>(here.rgb + albedo(me) * mean, here.a));
 }
