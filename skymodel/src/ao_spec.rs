@@ -48,7 +48,8 @@ pub struct AoSettings {
     /// `ssao`: kernel samples per pixel, in [1, 256] (default 32).
     pub samples: u32,
     /// Half side of the depth-aware (bilateral) blur, pixels, in [0, 4]
-    /// (default 2: a 5 × 5 window, covering the 4 × 4 interleaving).
+    /// (default 2: a 5 × 5 window, covering the 4 × 4 interleaving); the
+    /// bounce's blur too.
     pub blur_px: u32,
     /// Near-field indirect light (the `bounce` pass, SSDO-style): one
     /// diffuse bounce of the lit image from the on-screen surfaces within
@@ -56,7 +57,7 @@ pub struct AoSettings {
     /// itself and sees only what the camera sees.
     pub bounce: bool,
     /// Bounce: cosine-distributed directions per pixel, in [1, 256]
-    /// (default 32).
+    /// (default 16; the blur, `blur_px`, gathers its neighbours').
     pub bounce_samples: u32,
     /// Bounce: screen-space steps along each direction, in [1, 64]
     /// (default 12).
@@ -77,7 +78,7 @@ impl Default for AoSettings {
             samples: 32,
             blur_px: 2,
             bounce: false,
-            bounce_samples: 32,
+            bounce_samples: 16,
             bounce_steps: 12,
             bounce_radius_m: None,
         }

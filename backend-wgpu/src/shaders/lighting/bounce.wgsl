@@ -86,7 +86,7 @@ fn ign(q: vec2<u32>, o: f32) -> f32 {
 }
 
 // The radiance that the first surface along ω from p sends back, or 0.
-fn trace(p: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec3<f32> {
+fn trace(p: vec3<f32>, n: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec3<f32> {
     let steps = max(b.q.y, 1u);
     let r = b.params.x;
     // Whether the last point looked at lay in front of the surface there.
@@ -116,6 +116,13 @@ fn trace(p: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec3<f32> {
         let crossed = front && behind < 4.0 * thick;
         if behind > 1e-3 * zq && (behind < thick || crossed) {
             let nq = textureLoad(g_normal, q, 0).xyz;
+            let pq = b.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
+            if dot(nq, n) > 0.95 && abs(dot(pq - p, n)) < 0.02 * zq {
+                // p's own plane, seen at a grazing angle: a point just above
+                // it can lie behind the depth of the pixel's centre.
+                front = false;
+                continue;
+            }
             if dot(nq, w) >= 0.0 {
                 // Its back: the ray is blocked, nothing comes this way.
                 return vec3<f32>(0.0);
@@ -156,7 +163,7 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
         let rad = sqrt(u);
         let phi = 2.0 * PI * fract(f32(i) * GOLDEN + turn);
         let w = t1 * (rad * cos(phi)) + t2 * (rad * sin(phi)) + n * sqrt(max(1.0 - u, 0.0));
-        sum += trace(p, w, me, fract(j + f32(i) * 0.618034));
+        sum += trace(p, n, w, me, fract(j + f32(i) * 0.618034));
     }
     textureStore(out_tex, me, vec4<f32>(sum / f32(count), 1.0));
 }
