@@ -254,7 +254,58 @@ impl Bounce {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use himmel_skymodel::Camera;
+    use glam::DVec3;
+    use himmel_skymodel::frame::{DirectLight, DirectLights};
+    use himmel_skymodel::{Camera, Scene};
+
+    /// The inputs of a frame without the sky's light: the `ao` pass as
+    /// `ao`, the Sun at ENU direction `sun` (if any).
+    fn inputs(scene: &Scene, ao: bool, sun: Option<DVec3>) -> WorldInputs<'_> {
+        let light = |d: DVec3| DirectLight {
+            dir_enu: d.normalize(),
+            rgb: [1e5; 3],
+            angular_radius: 0.0047,
+        };
+        WorldInputs {
+            scene,
+            direct: DirectLights {
+                sun: sun.map(light),
+                moon: None,
+            },
+            env: None,
+            env_changed: false,
+            air: None,
+            shadows: false,
+            godrays: false,
+            clouds: None,
+            ao,
+            ssr: false,
+            temporal: false,
+        }
+    }
+
+    #[test]
+    fn it_runs_only_with_ao_geometry_and_light() {
+        let s = Scene::default();
+        let high = Some(DVec3::new(0.0, -0.6, 0.8));
+        let low = Some(DVec3::new(0.0, -0.6, -0.1));
+        assert!(decide(&inputs(&s, false, high), Some(10.0)).is_some_and(|w| w.contains("ao pass")));
+        assert_eq!(
+            decide(&inputs(&s, true, high), None),
+            Some("the world has no geometry")
+        );
+        // No sky light and the Sun below the horizon: nothing is lit, so
+        // there is nothing to bounce.
+        assert_eq!(
+            decide(&inputs(&s, true, low), Some(10.0)),
+            Some("nothing lights the world")
+        );
+        assert_eq!(
+            decide(&inputs(&s, true, None), Some(10.0)),
+            Some("nothing lights the world")
+        );
+        assert_eq!(decide(&inputs(&s, true, high), Some(10.0)), None);
+    }
 
     #[test]
     fn uniforms_carry_the_quality_and_the_frame() {

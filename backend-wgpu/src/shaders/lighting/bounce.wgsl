@@ -14,7 +14,9 @@
 // moved every frame of a temporal run. Each ray is followed on screen by
 // `steps` points at distances R ((k + j)/S)² (j: per-pixel jitter); the
 // first point that lies behind the surface the G-buffer shows there, by
-// less than the thickness, is the hit x. L_o(x) is the lit radiance the
+// less than the thickness or having crossed it since the last point, is
+// the hit x (one on p's own plane, seen at a grazing angle, is passed
+// over). L_o(x) is the lit radiance the
 // lighting pass wrote at x's pixel (a Lambertian surface sends the same
 // radiance every way); a hit surface that faces away from p, a ray that
 // leaves the image or goes beyond R adds nothing (screen space: what the
