@@ -109,13 +109,15 @@ fn trace(p: vec3<f32>, n: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec
         }
         let zq = textureLoad(g_distance, q, 0).x * dot(ray_at(vec2<f32>(q) + 0.5), b.forward.xyz);
         // Behind the surface seen there, by less than the thickness: the
-        // larger of two step lengths and 5 % of its depth.
-        let thick = max(2.0 * r * (2.0 * f * f32(steps) + 1.0) / f32(steps * steps), 0.05 * zq);
+        // larger of two step lengths and 2 % of its depth (5 % let rays
+        // passing behind a box at a distance pick up its sunlit face).
+        let thick = max(2.0 * r * (2.0 * f * f32(steps) + 1.0) / f32(steps * steps), 0.02 * zq);
         let behind = s.z - zq;
-        // A hit: behind by less than the thickness, or the ray crossed the
-        // surface between this point and the last (steep rays onto a floor
-        // seen at grazing angles pass far behind it within one step).
-        let crossed = front && behind < 4.0 * thick;
+        // A hit: behind by less than the thickness, or by less than twice it
+        // when the ray crossed the surface between this point and the last
+        // (steep rays onto a floor seen at grazing angles pass far behind it
+        // within one step).
+        let crossed = front && behind < 2.0 * thick;
         if behind > 1e-3 * zq && (behind < thick || crossed) {
             let nq = textureLoad(g_normal, q, 0).xyz;
             let pq = b.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
