@@ -48,8 +48,24 @@ pub struct AoSettings {
     /// `ssao`: kernel samples per pixel, in [1, 256] (default 32).
     pub samples: u32,
     /// Half side of the depth-aware (bilateral) blur, pixels, in [0, 4]
-    /// (default 2: a 5 × 5 window, covering the 4 × 4 interleaving).
+    /// (default 2: a 5 × 5 window, covering the 4 × 4 interleaving); the
+    /// bounce's blur too.
     pub blur_px: u32,
+    /// Near-field indirect light (the `bounce` pass, SSDO-style): one
+    /// diffuse bounce of the lit image from the on-screen surfaces within
+    /// `bounce_radius_m`. Default false: it costs about as much as the AO
+    /// itself and sees only what the camera sees.
+    pub bounce: bool,
+    /// Bounce: cosine-distributed directions per pixel, in [1, 256]
+    /// (default 16; the blur, `blur_px`, gathers its neighbours').
+    pub bounce_samples: u32,
+    /// Bounce: screen-space steps along each direction, in [1, 64]
+    /// (default 12).
+    pub bounce_steps: u32,
+    /// Bounce: how far a direction is followed, metres, in [0.01, 1000].
+    /// Absent (the default): a fifth of the world's bounding-box diagonal,
+    /// within [0.5, 20] m ([`AoSettings::bounce_radius_for`]).
+    pub bounce_radius_m: Option<f64>,
 }
 
 impl Default for AoSettings {
@@ -61,6 +77,10 @@ impl Default for AoSettings {
             steps: 12,
             samples: 32,
             blur_px: 2,
+            bounce: false,
+            bounce_samples: 16,
+            bounce_steps: 12,
+            bounce_radius_m: None,
         }
     }
 }
@@ -73,16 +93,29 @@ impl AoSettings {
             .unwrap_or_else(|| (diagonal_m / 20.0).clamp(0.1, 5.0))
     }
 
+    /// The bounce's radius for a world whose bounding box has this
+    /// diagonal (metres): `bounce_radius_m`, else diagonal / 5 within
+    /// [0.5, 20] m.
+    pub fn bounce_radius_for(&self, diagonal_m: f64) -> f64 {
+        self.bounce_radius_m
+            .unwrap_or_else(|| (diagonal_m / 5.0).clamp(0.5, 20.0))
+    }
+
     /// Checks every value against its documented range, naming the field.
     pub fn validate(&self) -> Result<(), SceneError> {
         if let Some(r) = self.radius_m {
             check_range("lighting.ao.radius_m", r, 0.01, 100.0)?;
+        }
+        if let Some(r) = self.bounce_radius_m {
+            check_range("lighting.ao.bounce_radius_m", r, 0.01, 1000.0)?;
         }
         for (f, v, lo, hi) in [
             ("lighting.ao.slices", self.slices, 1, 16),
             ("lighting.ao.steps", self.steps, 1, 64),
             ("lighting.ao.samples", self.samples, 1, 256),
             ("lighting.ao.blur_px", self.blur_px, 0, 4),
+            ("lighting.ao.bounce_samples", self.bounce_samples, 1, 256),
+            ("lighting.ao.bounce_steps", self.bounce_steps, 1, 64),
         ] {
             check_range(f, v as f64, lo as f64, hi as f64)?;
         }
@@ -107,6 +140,10 @@ mod tests {
             ..a
         };
         assert_eq!(b.radius_for(1000.0), 0.5);
+        assert!(!a.bounce);
+        assert_eq!(a.bounce_radius_for(40.0), 8.0);
+        assert_eq!(a.bounce_radius_for(1.0), 0.5);
+        assert_eq!(a.bounce_radius_for(1000.0), 20.0);
         for (bad, field) in [
             (
                 AoSettings {
@@ -119,6 +156,27 @@ mod tests {
             (AoSettings { steps: 65, ..a }, "lighting.ao.steps"),
             (AoSettings { samples: 0, ..a }, "lighting.ao.samples"),
             (AoSettings { blur_px: 5, ..a }, "lighting.ao.blur_px"),
+            (
+                AoSettings {
+                    bounce_samples: 0,
+                    ..a
+                },
+                "lighting.ao.bounce_samples",
+            ),
+            (
+                AoSettings {
+                    bounce_steps: 65,
+                    ..a
+                },
+                "lighting.ao.bounce_steps",
+            ),
+            (
+                AoSettings {
+                    bounce_radius_m: Some(2000.0),
+                    ..a
+                },
+                "lighting.ao.bounce_radius_m",
+            ),
         ] {
             assert_eq!(bad.validate().unwrap_err().field, field);
         }
@@ -132,6 +190,9 @@ mod tests {
             (a.method, a.radius_m, a.samples, a.slices),
             (AoMethod::Ssao, Some(2.0), 16, 4)
         );
+        let b: AoSettings =
+            serde_json::from_str(r#"{"bounce": true, "bounce_radius_m": 3}"#).unwrap();
+        assert_eq!((b.bounce, b.bounce_radius_m), (true, Some(3.0)));
         assert!(serde_json::from_str::<AoSettings>(r#"{"method": "hbao"}"#).is_err());
         assert!(serde_json::from_str::<AoSettings>(r#"{"radius": 1}"#).is_err());
     }

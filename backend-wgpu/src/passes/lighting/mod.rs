@@ -11,7 +11,9 @@
 //! 4. **ambient occlusion** ([`ao`], `ao.wgsl`), when `ao` runs: AO and
 //!    bent normals from the G-buffer, which the lighting pass applies to
 //!    the sky's diffuse light only (see [`ao`] for how it meets the
-//!    visibility maps);
+//!    visibility maps); after the lighting pass, when `lighting.ao.bounce`
+//!    asks for it, one diffuse bounce from the lit surfaces on screen
+//!    ([`bounce`], `bounce.wgsl`);
 //! 5. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
 //!    filtered shadows), the sky (occluded diffuse cells, prefiltered
 //!    specular), emission, fog and aerial perspective, written into the
@@ -31,6 +33,7 @@
 //! renderer from a cube map of the frame's sky (`world_frame.rs`).
 
 pub mod ao;
+pub mod bounce;
 pub mod cloud_shadow;
 pub mod env;
 pub mod froxel;
@@ -137,6 +140,7 @@ pub struct LightingPasses {
     shafts: godrays::Shafts,
     clouds: cloud_shadow::CloudShadows,
     ao: ao::Occlusion,
+    bounce: bounce::Bounce,
     radial: radial::Radial,
     froxel: froxel::Froxels,
     ssr: ssr::Reflections,
@@ -233,6 +237,14 @@ impl LightingPasses {
         stats.push(lit);
         stats.extend(shadows);
         stats.extend(shafts);
+        if let Some(gb) = self.gbuffer.as_ref() {
+            let extent = self
+                .world
+                .as_ref()
+                .and_then(|w| w.bounds)
+                .map(|b| b.extent());
+            stats.extend(self.bounce.step(gpu, inputs, gb, extent, (&cam, target))?);
+        }
         if let Some(gb) = self.gbuffer.as_ref().filter(|_| inputs.ssr) {
             stats.push(match reflect {
                 Ok(()) => {
