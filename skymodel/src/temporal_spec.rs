@@ -10,10 +10,12 @@
 //! the G-buffer's velocity: the history is rejected where the surface it
 //! held is not the one seen now (disocclusion: its distance from the
 //! previous eye differs by more than `depth_tolerance`), and clipped to
-//! the box of mean ± `variance_gamma` standard deviations of the pixel's
-//! 3 × 3 neighbourhood in YCoCg (what moved or changed its lighting). A
-//! pixel's history counts its frames up to `max_frames`; each frame weighs
-//! 1 / that count, so a static view becomes the running mean of its
+//! the box about the mean of the pixel's 3 × 3 neighbourhood in YCoCg,
+//! `variance_gamma` times the neighbourhood's standard deviation plus the
+//! pixel's own over its past frames wide (what moved or changed its
+//! lighting). A pixel's history counts its frames up to `max_frames` (a
+//! clipped history fewer, the farther outside the box it lay); each frame
+//! weighs 1 / that count, so a static view becomes the running mean of its
 //! jittered frames (anti-aliasing, and AO/SSR noise averaged away).
 
 use serde::{Deserialize, Serialize};
@@ -33,7 +35,8 @@ pub struct TemporalSettings {
     /// filter off (each frame as rendered, jittered).
     pub max_frames: u32,
     /// The half width of the clip box about the neighbourhood's mean, in
-    /// standard deviations, in [0.25, 8] (default 1.25): smaller rejects
+    /// standard deviations (the neighbourhood's in this frame plus the
+    /// pixel's over its frames), in [0.25, 8] (default 1.25): smaller rejects
     /// ghosts sooner, larger keeps more history (less noise).
     pub variance_gamma: f64,
     /// The largest relative difference between a surface's distance from

@@ -158,7 +158,7 @@ pub fn jitter(k: u32) -> Vec2 {
 }
 
 const LIT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-const AUX: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Float;
+const AUX: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 fn pipe(gpu: &Gpu) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
     let tex = |sample_type| wgpu::BindingType::Texture {
@@ -397,7 +397,7 @@ impl Temporal {
             return Ok(None);
         };
         let (w, h) = img.size;
-        let row = (w as u64 * 8).div_ceil(256) * 256;
+        let row = (w as u64 * 16).div_ceil(256) * 256;
         let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("temporal read back"),
             size: row * h as u64,
@@ -422,9 +422,9 @@ impl Temporal {
         let mut distance = Vec::with_capacity((w * h) as usize);
         let mut frames = Vec::with_capacity((w * h) as usize);
         for y in 0..h as usize {
-            let line = &bytes[y * row as usize..y * row as usize + w as usize * 8];
-            for px in line.chunks_exact(8) {
-                let v: [f32; 2] = bytemuck::pod_read_unaligned(px);
+            let line = &bytes[y * row as usize..y * row as usize + w as usize * 16];
+            for px in line.chunks_exact(16) {
+                let v: [f32; 4] = bytemuck::pod_read_unaligned(px);
                 distance.push(v[0]);
                 frames.push(v[1]);
             }

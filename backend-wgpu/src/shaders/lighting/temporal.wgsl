@@ -16,11 +16,20 @@
 // 3. the history's colour: Catmull–Rom over the 4 × 4 texels about x_prev
 //    (sharp under motion; exact at texel centres), clipped in YCoCg towards
 //    the mean of the 3 × 3 neighbourhood of this frame into the box
-//    mean ± γ σ (variance clipping, Salvi 2016): what no longer matches
-//    what the neighbourhood shows now (a ghost, changed light) is pulled in;
-// 4. n' = min(n + 1, max_frames), out = history + (current − history) / n':
+//    mean ± γ (σ + σ_t) (variance clipping, Salvi 2016): what no longer
+//    matches what the neighbourhood shows now (a ghost, changed light) is
+//    pulled in. σ is the neighbourhood's spread in this frame, σ_t the
+//    pixel's own spread of luma over its past frames (from the running
+//    mean of luma², kept in the history): a pixel whose frames scatter
+//    (SSR's few GGX samples) gets a box wide enough for its noise, so the
+//    box does not drag its mean towards one frame's neighbourhood;
+// 4. a history outside the box by a factor m counts n / m² frames (a
+//    clipped history stood for other light, so the pixel moves on to the
+//    new light rather than sitting at the box's edge);
+//    n' = min(n + 1, max_frames), out = history + (current − history) / n':
 //    the running mean of a still pixel's jittered frames.
-// The history keeps (distance, n') beside the colour for the next frame.
+// The history keeps (distance, n', mean luma²) beside the colour for the
+// next frame.
 
 struct Temporal {
     // xyz: eye; w: tan(fov / 2).
@@ -45,11 +54,12 @@ struct Temporal {
 @group(0) @binding(3) var g_velocity: texture_2d<f32>;
 @group(0) @binding(4) var current: texture_2d<f32>;
 @group(0) @binding(5) var hist_colour: texture_2d<f32>;
-// x: the distance kept (0: sky), y: the frames the pixel's history holds.
+// x: the distance kept (0: sky), y: the frames the pixel's history holds,
+// z: the running mean of the pixel's luma (YCoCg Y) squared.
 @group(0) @binding(6) var hist_aux: texture_2d<f32>;
 @group(0) @binding(7) var out_tex: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(8) var out_colour: texture_storage_2d<rgba32float, write>;
-@group(0) @binding(9) var out_aux: texture_storage_2d<rg32float, write>;
+@group(0) @binding(9) var out_aux: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(10) var g_normal: texture_2d<f32>;
 
 fn size() -> vec2<i32> {
@@ -110,15 +120,21 @@ fn history_at(x: vec2<f32>) -> vec3<f32> {
     return max(c, vec3<f32>(0.0));
 }
 
-// Pulls h along the line to the box's centre until it lies in the box.
-fn clip_box(h: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> vec3<f32> {
+// How far h lies outside the box: the largest |h − centre| / half-width
+// over the three axes (≤ 1 inside).
+fn box_excess(h: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>) -> f32 {
     let c = 0.5 * (lo + hi);
     let e = max(0.5 * (hi - lo), vec3<f32>(1e-7 * (abs(c.x) + 1e-20)));
-    let v = h - c;
-    let a = abs(v / e);
-    let m = max(a.x, max(a.y, a.z));
+    let a = abs((h - c) / e);
+    return max(a.x, max(a.y, a.z));
+}
+
+// Pulls h along the line to the box's centre until it lies in the box
+// (m: its box_excess).
+fn clip_box(h: vec3<f32>, lo: vec3<f32>, hi: vec3<f32>, m: f32) -> vec3<f32> {
+    let c = 0.5 * (lo + hi);
     if m > 1.0 {
-        return c + v / m;
+        return c + (h - c) / m;
     }
     return h;
 }
@@ -152,6 +168,7 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
     // Where the surface was, and whether the history saw it there.
     let x_prev = vec2<f32>(px) + 0.5 - textureLoad(g_velocity, px, 0).xy;
     var n = 0.0;
+    var y2 = 0.0;
     let inside = all(x_prev >= vec2<f32>(0.0)) && all(x_prev <= vec2<f32>(s));
     if u.prev_eye.w > 0.5 && inside {
         let ray = pixel_ray(px);
@@ -167,17 +184,33 @@ fn resolve(@builtin(global_invocation_id) gid: vec3<u32>) {
             same = same || (a.x > 0.0 && abs(a.x - e) <= tol);
         }
         if same {
-            n = textureLoad(hist_aux, clamped(t0), 0).y;
+            let a = textureLoad(hist_aux, clamped(t0), 0);
+            n = a.y;
+            y2 = a.z;
         }
     }
     var out = cur;
-    let frames = min(n + 1.0, f32(u.q.x));
+    var frames = 1.0;
+    let y_cur = ycocg(cur).x;
+    var y2_out = y_cur * y_cur;
     if n > 0.0 {
-        let g = u.jitter.z * sigma;
-        let h = rgb(clip_box(ycocg(history_at(x_prev)), m1 - g, m1 + g));
+        let h_raw = ycocg(history_at(x_prev));
+        // The pixel's own noise: the spread of its frames' luma about the
+        // history's mean (σ_t), widening the box of a pixel whose frames
+        // scatter more than its neighbourhood shows in one frame.
+        let sigma_t = sqrt(max(y2 - h_raw.x * h_raw.x, 0.0));
+        let g = u.jitter.z * (sigma + vec3<f32>(sigma_t));
+        let m = box_excess(h_raw, m1 - g, m1 + g);
+        let h = rgb(clip_box(h_raw, m1 - g, m1 + g, m));
+        // A clipped history stood for another light: it counts for fewer
+        // frames, the fewer the farther outside the box it lay, so the
+        // pixel moves on to what it shows now instead of sitting at the
+        // box's edge for max_frames frames.
+        frames = min(n / max(m * m, 1.0) + 1.0, f32(u.q.x));
         out = h + (cur - h) / frames;
+        y2_out = y2 + (y_cur * y_cur - y2) / frames;
     }
     textureStore(out_tex, px, vec4<f32>(out, 1.0));
     textureStore(out_colour, px, vec4<f32>(out, 1.0));
-    textureStore(out_aux, px, vec4<f32>(dist, frames, 0.0, 0.0));
+    textureStore(out_aux, px, vec4<f32>(dist, frames, y2_out, 0.0));
 }
