@@ -28,6 +28,14 @@ pub enum AoMethod {
     /// and the exact cosine-weighted visibility between them; the slices'
     /// angles interleaved over 4 × 4 pixels. Then the depth-aware blur.
     Gtao,
+    /// Horizon-based AO (Bavoil, Sainz & Dimitrov 2008): the same slices
+    /// and steps as `gtao`, but the published estimator — along each
+    /// screen direction the horizon rises from the surface's tangent, and
+    /// each rise in the sine of its elevation above the plane normal to
+    /// the view vector is added, attenuated by 1 − r²/R². Not cosine
+    /// weighted about the normal, so it differs from `gtao` and the
+    /// reference on tilted surfaces. Then the depth-aware blur.
+    Hbao,
 }
 
 /// Ambient occlusion (`lighting.ao`; runs with `--effects ao`).
@@ -41,9 +49,11 @@ pub struct AoSettings {
     /// diagonal of the world's bounding box, within [0.1, 5] m
     /// ([`AoSettings::radius_for`]; `null` in the template).
     pub radius_m: Option<f64>,
-    /// `gtao`: slices per pixel, in [1, 16] (default 4).
+    /// `gtao`, `hbao`: slices per pixel, in [1, 16] (default 4; `hbao`
+    /// walks both sides of each, 2 × slices directions).
     pub slices: u32,
-    /// `gtao`: horizon samples per side of a slice, in [1, 64] (default 12).
+    /// `gtao`, `hbao`: horizon samples per side of a slice, in [1, 64]
+    /// (default 12).
     pub steps: u32,
     /// `ssao`: kernel samples per pixel, in [1, 256] (default 32).
     pub samples: u32,
@@ -193,7 +203,9 @@ mod tests {
         let b: AoSettings =
             serde_json::from_str(r#"{"bounce": true, "bounce_radius_m": 3}"#).unwrap();
         assert_eq!((b.bounce, b.bounce_radius_m), (true, Some(3.0)));
-        assert!(serde_json::from_str::<AoSettings>(r#"{"method": "hbao"}"#).is_err());
+        let h: AoSettings = serde_json::from_str(r#"{"method": "hbao"}"#).unwrap();
+        assert_eq!(h.method, AoMethod::Hbao);
+        assert!(serde_json::from_str::<AoSettings>(r#"{"method": "vxao"}"#).is_err());
         assert!(serde_json::from_str::<AoSettings>(r#"{"radius": 1}"#).is_err());
     }
 }

@@ -8,7 +8,7 @@
 //! pixel).
 //!
 //! Bounds: `gtao` ≤ 0.05 (the goal) and its measured error plus
-//! 0.01; `ssao` at its measured error
+//! 0.01; `ssao` and `hbao` at their measured error
 //! plus 0.01 (published in the README; its point test reads lighter than
 //! the ray-traced reference). `cargo test -p himmel-tests --test world_ao
 //! -- --nocapture` prints the table the README quotes;
@@ -33,6 +33,10 @@ const CASES: [&str; 2] = ["atrium_high", "plane_and_boxes_high"];
 /// `ssao`'s bounds per case: measured with the defaults (0.0368, 0.0142)
 /// plus 0.01.
 const SSAO_BOUND: [f64; 2] = [0.047, 0.025];
+
+/// `hbao`'s bounds per case: measured with the defaults (0.0288, 0.0065)
+/// plus 0.01.
+const HBAO_BOUND: [f64; 2] = [0.039, 0.017];
 
 /// `gtao`'s bounds per case under the 0.05: measured with the
 /// defaults (0.0279, 0.0075) plus 0.01, so that a change for the worse
@@ -162,6 +166,10 @@ fn ao_against_mitsuba() {
         method: AoMethod::Ssao,
         ..AoSettings::default()
     };
+    let hbao = AoSettings {
+        method: AoMethod::Hbao,
+        ..AoSettings::default()
+    };
     let custom: Option<AoSettings> = std::env::var("HIMMEL_AO")
         .ok()
         .map(|j| serde_json::from_str(&j).expect("HIMMEL_AO: a `lighting.ao` object"));
@@ -172,6 +180,8 @@ fn ao_against_mitsuba() {
         row(name, "gtao", &g);
         let s = measure(name, ssao);
         row(name, "ssao", &s);
+        let h = measure(name, hbao);
+        row(name, "hbao", &h);
         if let Some(c) = custom {
             row(name, &format!("{c:?}"), &measure(name, c));
         }
@@ -187,6 +197,12 @@ fn ao_against_mitsuba() {
             "{name}: ssao MAE {:.4} > {}",
             s.mae,
             SSAO_BOUND[k]
+        );
+        assert!(
+            h.mae <= HBAO_BOUND[k],
+            "{name}: hbao MAE {:.4} > {}",
+            h.mae,
+            HBAO_BOUND[k]
         );
     }
 }

@@ -135,7 +135,13 @@ fn pipes(gpu: &Gpu) -> AoPipes {
                 entry(5, tex(unfiltered)),
             ],
         });
-    let module = gpu.shader("ao.wgsl", include_str!("../../shaders/lighting/ao.wgsl"));
+    let module = gpu.shader(
+        "ao.wgsl",
+        concat!(
+            include_str!("../../shaders/lighting/ao.wgsl"),
+            include_str!("../../shaders/lighting/ao_hbao.wgsl")
+        ),
+    );
     let pl = gpu.pipeline_layout("ao", &[&layout]);
     AoPipes {
         occlude: gpu.compute_pipeline(&pl, &module, "occlude"),
@@ -153,6 +159,7 @@ fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
             match s.method {
                 AoMethod::Ssao => 0,
                 AoMethod::Gtao => 1,
+                AoMethod::Hbao => 2,
             },
             s.slices.max(1),
             s.steps.max(1),
@@ -230,6 +237,7 @@ impl Occlusion {
         let method = match settings.method {
             AoMethod::Ssao => "ssao",
             AoMethod::Gtao => "gtao",
+            AoMethod::Hbao => "hbao",
         };
         Ok(PassStat {
             name: "ao".into(),

@@ -34,6 +34,7 @@
 // * `blur` (both): a depth-aware box of (2 blur_px + 1)² pixels over the
 //   neighbours on the same surface (normal within 25°, on the centre's
 //   plane within 2 % of the distance).
+// * `hbao` (Bavoil et al. 2008): ao_hbao.wgsl, concatenated after this.
 // Output: rgba32float, xyz the bent normal (world frame), w = A; sky pixels
 // (0, 0, 0, 1).
 
@@ -48,7 +49,7 @@ struct Ao {
     up: vec4<f32>,
     // R (m), 0, the frame's jitter (px, x right, y down; temporal.rs).
     params: vec4<f32>,
-    // Method (0 ssao, 1 gtao), slices, steps, samples.
+    // Method (0 ssao, 1 gtao, 2 hbao: ao_hbao.wgsl), slices, steps, samples.
     q: vec4<u32>,
     // Blur half side (px), the frame's index in a temporal run, 0, 0.
     q2: vec4<u32>,
@@ -279,6 +280,8 @@ fn occlude(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if a.q.x == 1u {
         textureStore(ao_out, px, gtao(px, p, n, r_px));
+    } else if a.q.x == 2u {
+        textureStore(ao_out, px, hbao(px, p, n, r_px));
     } else {
         textureStore(ao_out, px, ssao(px, p, n, dist));
     }

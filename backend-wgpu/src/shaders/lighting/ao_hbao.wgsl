@@ -1,0 +1,109 @@
+// `hbao` (Bavoil, Sainz & Dimitrov 2008, "Image-space horizon-based
+// ambient occlusion"), concatenated after ao.wgsl (its uniforms and
+// helpers). Per pixel, 2 × `slices` screen directions (the two sides of
+// each slice, the slices' angles interleaved as gtao's), `steps` samples
+// along each within R. Angles are elevations above the plane through p
+// normal to the view vector v (sin α = d̂·v). Along a direction the
+// horizon starts at the surface's tangent (the tangent plane's line in the
+// slice, elevation t); each sample that rises above the horizon so far
+// raises it, and adds its rise in sin α, weighted by the attenuation
+// W(r) = 1 − r²/R² of its distance r (a sample is put into the slice
+// first, keeping its height above the tangent plane, as gtao does):
+//
+//   A = 1 − (1 / N_dir) Σ_dir Σ_rises W(r_i) (sin h_i − sin h_{i−1}).
+//
+// This is the published estimator: the occluded share of the hemisphere
+// about v, with each elevation band weighted by cos α (not the cosine
+// about n of gtao's and the reference's AO), softened by W. The bent
+// normal is gtao's: the cosine-weighted mean direction of each slice's
+// open arc between its two horizons.
+
+fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
+    let radius = a.params.x;
+    let v = normalize(a.eye.xyz - p);
+    let slices = max(a.q.y, 1u);
+    let steps = max(a.q.z, 1u);
+    let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(a.q2.y));
+    let jit = ign(vec2<u32>(px));
+    let centre = vec2<f32>(px) + 0.5;
+    var occluded = 0.0;
+    var dirs = 0.0;
+    var bent = vec3<f32>(0.0);
+    for (var s = 0u; s < slices; s++) {
+        let phi = (f32(s) + rot) / f32(slices) * PI;
+        let dir2 = vec2<f32>(cos(phi), sin(phi));
+        let dir3 = a.right.xyz * dir2.x - a.up.xyz * dir2.y;
+        let o = dir3 - v * dot(dir3, v);
+        if dot(o, o) < 1e-12 {
+            continue;
+        }
+        let ortho = normalize(o);
+        let axis = cross(v, ortho);
+        let np = n - axis * dot(n, axis);
+        let nlen = length(np);
+        if nlen < 1e-4 {
+            continue;
+        }
+        let g = atan2(dot(np, ortho), dot(np, v));
+        var h = array<f32, 2>(g - HALF_PI, g + HALF_PI);
+        for (var side = 0; side < 2; side++) {
+            let sgn = f32(2 * side - 1);
+            // The tangent's elevation on this side: the slice's line in the
+            // tangent plane, at angle g ± π/2 from v.
+            var sin_h = cos(h[side]);
+            let tangent = v * sin_h + ortho * sin(h[side]);
+            var ao = 0.0;
+            for (var k = 0u; k < steps; k++) {
+                let t = (f32(k) + jit) / f32(steps);
+                let d_px = 1.0 + (r_px - 1.0) * t * t;
+                let q = vec2<i32>(floor(centre + dir2 * (sgn * d_px)));
+                if !on_screen(q) {
+                    break;
+                }
+                if textureLoad(g_material, q, 0).x == 0u {
+                    continue;
+                }
+                let delta = position(q) - p;
+                let len = length(delta);
+                if len < 1e-6 || len >= radius {
+                    continue;
+                }
+                // Into the slice, as gtao does: an off-slice pixel centre
+                // of the plane itself would rise above the tangent line.
+                let z = dot(delta, n);
+                let rho = sqrt(max(len * len - z * z, 0.0));
+                let ds = tangent * rho + (np / nlen) * (z / nlen);
+                let sin_s = dot(ds, v) / max(length(ds), 1e-9);
+                if sin_s > sin_h {
+                    let r = len / radius;
+                    ao += (1.0 - r * r) * (sin_s - sin_h);
+                    sin_h = sin_s;
+                }
+            }
+            occluded += ao;
+            dirs += 1.0;
+            let ang = acos(clamp(sin_h, -1.0, 1.0));
+            if side == 0 {
+                h[0] = max(-ang, g - HALF_PI);
+            } else {
+                h[1] = min(ang, g + HALF_PI);
+            }
+        }
+        var m = vec2<f32>(0.0);
+        let dh = (h[1] - h[0]) / f32(BENT_POINTS);
+        for (var i = 0u; i < BENT_POINTS; i++) {
+            let th = h[0] + (f32(i) + 0.5) * dh;
+            m += vec2<f32>(cos(th), sin(th)) * (cos(th - g) * abs(sin(th)));
+        }
+        bent += (v * m.x + ortho * m.y) * (nlen * dh);
+    }
+    var ao = 1.0;
+    if dirs > 0.0 {
+        ao = clamp(1.0 - occluded / dirs, 0.0, 1.0);
+    }
+    var b = n;
+    if dot(bent, bent) > 1e-12 {
+        b = normalize(bent);
+    }
+    return vec4<f32>(b, ao);
+}
