@@ -36,7 +36,8 @@ common=(--lat 48.14 --lon 11.58 --width 320 --height 320 --projection fisheye)
 ls -l "$out"
 
 # 3D worlds (wgpu; lavapipe without a GPU): the sun room at noon and in a
-# low winter Sun, the atrium in the afternoon, plane + boxes under a full Moon.
+# low winter Sun, the atrium in the afternoon, plane + boxes and Marienplatz
+# under a full Moon.
 w=tests/fixtures/worlds
 world=(--backend wgpu --projection perspective --fov 60 --width 480 --height 270)
 "$himmel" render "${world[@]}" --world $w/sun_room.glb --time 2024-04-15T11:45:00Z --lat 48.14 --lon 11.58 \
@@ -47,3 +48,7 @@ world=(--backend wgpu --projection perspective --fov 60 --width 480 --height 270
   --camera-pos=8,1.7,8 --look-at=-5,3,-5 --exposure 14 --output "$out/world-atrium.png"
 "$himmel" render "${world[@]}" --world $w/plane_and_boxes.glb --time 2024-10-17T23:30:00Z --lat 48.14 --lon 11.58 \
   --camera-pos=8,3,8 --look-at=0,0.5,-2 --output "$out/world-moonlit.png"
+# Munich's Marienplatz (OpenStreetMap via sionna-rt, tools/sionna_world.py)
+# under the same full Moon, looking at the Neues Rathaus' tower.
+"$himmel" render "${world[@]}" --world $w/munich_marienplatz.glb --time 2024-10-17T23:30:00Z \
+  --lat 48.1372 --lon 11.5755 --camera-pos=-35,1.7,15 --look-at=15,25,-20 --output "$out/world-marienplatz-moonlit.png"

@@ -329,3 +329,51 @@ fn a_glb_shorter_than_its_header_is_an_error() {
         );
     }
 }
+
+/// Munich's Marienplatz (`tests/fixtures/worlds/munich_marienplatz.glb`,
+/// made by `tools/sionna_world.py` from sionna-rt's OpenStreetMap-derived
+/// scene, centred on the Mariensäule): a real city loads, with its ground
+/// at y = 0 cut to ±100 m, and its two towers stand where the map puts
+/// them in Himmel's frame (x East, y Up, z South) — St. Peter's 91 m tower
+/// 89 m south and 25 m east of the column, the Neues Rathaus' 85 m tower
+/// 28 m north and 14 m east (their WGS84 positions, to ±10 m: the
+/// meshes' tops are not the towers' survey points).
+#[test]
+fn a_real_city_loads_in_the_world_frame() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../tests/fixtures/worlds/munich_marienplatz.glb"
+    );
+    let w = load(std::path::Path::new(path)).unwrap();
+    assert!(w.warnings.is_empty(), "{:?}", w.warnings);
+    assert_eq!(w.triangles(), 2432);
+    let mut names: Vec<_> = w.materials.iter().filter_map(|m| m.name.clone()).collect();
+    names.sort();
+    assert_eq!(names, ["concrete", "marble", "metal"]);
+    let b = w.bounds().unwrap();
+    assert!(b.min.y.abs() < 1e-3, "{b:?}");
+    assert!(b.min.x <= -100.0 && b.max.x >= 100.0 && b.min.z <= -100.0 && b.max.z >= 100.0);
+    // The highest point within a height band, and where it stands.
+    let top_in = |lo: f32, hi: f32| {
+        w.meshes
+            .iter()
+            .flat_map(|m| &m.positions)
+            .filter(|p| (lo..=hi).contains(&p[1]))
+            .max_by(|a, b| a[1].total_cmp(&b[1]))
+            .copied()
+            .unwrap()
+    };
+    let peter = top_in(88.0, 95.0);
+    let rathaus = top_in(80.0, 88.0);
+    for (name, p, east, south, height) in [
+        ("St. Peter", peter, 25.0, 89.0, 91.0),
+        ("Neues Rathaus", rathaus, 14.0, -28.0, 85.0),
+    ] {
+        let off = ((p[0] - east).powi(2) + (p[2] - south).powi(2)).sqrt();
+        assert!(
+            off < 10.0,
+            "{name}: top at {p:?}, {off:.1} m from ({east}, {south})"
+        );
+        assert!((p[1] - height).abs() < 1.0, "{name}: {} m high", p[1]);
+    }
+}
