@@ -135,6 +135,30 @@ impl Gpu {
         Ok(bytes)
     }
 
+    /// A compute-stage bind-group layout whose binding k is `types[k]`
+    /// (see [`bind`]).
+    pub fn compute_layout(
+        &self,
+        label: &str,
+        types: &[wgpu::BindingType],
+    ) -> wgpu::BindGroupLayout {
+        let entries: Vec<wgpu::BindGroupLayoutEntry> = types
+            .iter()
+            .enumerate()
+            .map(|(k, ty)| wgpu::BindGroupLayoutEntry {
+                binding: k as u32,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: *ty,
+                count: None,
+            })
+            .collect();
+        self.device
+            .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &entries,
+            })
+    }
+
     /// A compute pipeline layout over `layouts` (bind groups 0, 1, …).
     pub fn pipeline_layout(
         &self,
@@ -204,6 +228,86 @@ pub fn bind_group(
         layout,
         entries: &entries,
     })
+}
+
+/// The binding types of compute passes' bind-group layouts
+/// ([`Gpu::compute_layout`] numbers them by position).
+pub mod bind {
+    /// A uniform buffer (any size).
+    pub fn uniform() -> wgpu::BindingType {
+        buffer(wgpu::BufferBindingType::Uniform)
+    }
+
+    /// A storage buffer.
+    pub fn storage(read_only: bool) -> wgpu::BindingType {
+        buffer(wgpu::BufferBindingType::Storage { read_only })
+    }
+
+    fn buffer(ty: wgpu::BufferBindingType) -> wgpu::BindingType {
+        wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        }
+    }
+
+    /// A sampled texture of this sample type and view dimension.
+    pub fn texture(
+        sample_type: wgpu::TextureSampleType,
+        view_dimension: wgpu::TextureViewDimension,
+    ) -> wgpu::BindingType {
+        wgpu::BindingType::Texture {
+            sample_type,
+            view_dimension,
+            multisampled: false,
+        }
+    }
+
+    /// A 2D float texture read with `textureLoad` (not filterable).
+    pub fn float_2d() -> wgpu::BindingType {
+        texture(
+            wgpu::TextureSampleType::Float { filterable: false },
+            wgpu::TextureViewDimension::D2,
+        )
+    }
+
+    /// A 2D unsigned-integer texture.
+    pub fn uint_2d() -> wgpu::BindingType {
+        texture(
+            wgpu::TextureSampleType::Uint,
+            wgpu::TextureViewDimension::D2,
+        )
+    }
+
+    /// An array of depth maps (shadow and visibility maps).
+    pub fn depth_array() -> wgpu::BindingType {
+        texture(
+            wgpu::TextureSampleType::Depth,
+            wgpu::TextureViewDimension::D2Array,
+        )
+    }
+
+    /// A write-only storage texture of this format and view dimension.
+    pub fn write(
+        format: wgpu::TextureFormat,
+        view_dimension: wgpu::TextureViewDimension,
+    ) -> wgpu::BindingType {
+        wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension,
+        }
+    }
+
+    /// A write-only 2D storage texture of this format.
+    pub fn write_2d(format: wgpu::TextureFormat) -> wgpu::BindingType {
+        write(format, wgpu::TextureViewDimension::D2)
+    }
+
+    /// A comparison sampler (depth maps).
+    pub fn comparison() -> wgpu::BindingType {
+        wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Comparison)
+    }
 }
 
 /// A compute-stage storage buffer binding.

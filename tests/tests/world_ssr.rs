@@ -25,7 +25,7 @@ mod world_common;
 use himmel_skymodel::{Effect, SkyRenderer, SkyState, SsrSettings};
 use himmel_wgpu::WgpuRenderer;
 use serde_json::Value;
-use world_common::metrics::{mask_channel, mean_relative_error, read_exr, RgbImage, SKYLIT};
+use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage, SKYLIT};
 
 fn root() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
@@ -112,6 +112,10 @@ fn frame(r: &mut WgpuRenderer, c: &Value, ssr: Option<SsrSettings>) -> Frame {
 struct Measured {
     on: f64,
     off: f64,
+    /// FLIP of the tone-mapped image against the reference's over the
+    /// compared pixels, with the pass and without it.
+    flip_on: f64,
+    flip_off: f64,
     ms: f64,
     pixels: usize,
     /// The reference's pixels whose mirror ray meets geometry.
@@ -140,6 +144,8 @@ fn measure(r: &mut WgpuRenderer, name: &str, settings: SsrSettings) -> Measured 
     Measured {
         on: mean_relative_error(&on.image, &reference, &mask),
         off: mean_relative_error(&off.image, &reference, &mask),
+        flip_on: flip(&on.image, &reference, Some(&mask)),
+        flip_off: flip(&off.image, &reference, Some(&mask)),
         ms: on.ms,
         pixels,
         want,
@@ -148,8 +154,8 @@ fn measure(r: &mut WgpuRenderer, name: &str, settings: SsrSettings) -> Measured 
 
 #[test]
 fn ssr_against_mitsuba() {
-    println!("| case | settings | error (ssr) | error (sky only) | ms | pixels hit / reflecting |");
-    println!("|---|---|---|---|---|---|");
+    println!("| case | settings | error (ssr) | error (sky only) | FLIP (ssr) | FLIP (sky only) | ms | pixels hit / reflecting |");
+    println!("|---|---|---|---|---|---|---|---|");
     let custom: Option<SsrSettings> = std::env::var("HIMMEL_SSR")
         .ok()
         .map(|j| serde_json::from_str(&j).expect("HIMMEL_SSR: a `lighting.ssr` object"));
@@ -164,14 +170,14 @@ fn ssr_against_mitsuba() {
     for (k, name) in CASES.into_iter().enumerate() {
         let m = measure(r, name, defaults);
         println!(
-            "| {name} | defaults | {:.4} | {:.4} | {:.1} | {} / {} |",
-            m.on, m.off, m.ms, m.pixels, m.want
+            "| {name} | defaults | {:.4} | {:.4} | {:.3} | {:.3} | {:.1} | {} / {} |",
+            m.on, m.off, m.flip_on, m.flip_off, m.ms, m.pixels, m.want
         );
         if let Some(c) = custom {
             let x = measure(r, name, c);
             println!(
-                "| {name} | {c:?} | {:.4} | {:.4} | {:.1} | {} / {} |",
-                x.on, x.off, x.ms, x.pixels, x.want
+                "| {name} | {c:?} | {:.4} | {:.4} | {:.3} | {:.3} | {:.1} | {} / {} |",
+                x.on, x.off, x.flip_on, x.flip_off, x.ms, x.pixels, x.want
             );
         }
         // The pass finds most of what the reference's mirror rays meet
@@ -189,6 +195,13 @@ fn ssr_against_mitsuba() {
             "{name}: ssr {:.4} vs sky only {:.4}",
             m.on,
             m.off
+        );
+        // Perceptually too: the reflections bring the image closer.
+        assert!(
+            m.flip_on < m.flip_off,
+            "{name}: FLIP {:.3} with ssr, {:.3} without",
+            m.flip_on,
+            m.flip_off
         );
     }
 }

@@ -19,7 +19,7 @@ use himmel_skymodel::{AoSettings, RenderError};
 use super::resources::{texture, GBuffer};
 use super::view::{CameraBlock, WorldCamera};
 use super::WorldInputs;
-use crate::gpu::{bind_group, Gpu};
+use crate::gpu::{bind, bind_group, Gpu};
 
 /// The pass's uniforms (`Bounce` in bounce.wgsl).
 #[repr(C)]
@@ -54,47 +54,20 @@ pub struct Bounce {
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 fn pipes(gpu: &Gpu) -> Pipes {
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty,
-        count: None,
-    };
-    let tex = |sample_type| wgpu::BindingType::Texture {
-        sample_type,
-        view_dimension: wgpu::TextureViewDimension::D2,
-        multisampled: false,
-    };
-    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
-    let layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("bounce"),
-            entries: &[
-                entry(
-                    0,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
-                entry(1, tex(unfiltered)),
-                entry(2, tex(unfiltered)),
-                entry(3, tex(unfiltered)),
-                entry(4, tex(wgpu::TextureSampleType::Uint)),
-                entry(5, tex(unfiltered)),
-                entry(
-                    6,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                ),
-                entry(7, tex(unfiltered)),
-            ],
-        });
+    let f = bind::float_2d();
+    let layout = gpu.compute_layout(
+        "bounce",
+        &[
+            bind::uniform(),
+            f,
+            f,
+            f,
+            bind::uint_2d(),
+            f,
+            bind::write_2d(FORMAT),
+            f,
+        ],
+    );
     let module = gpu.shader(
         "bounce.wgsl",
         include_str!("../../shaders/lighting/bounce.wgsl"),

@@ -28,7 +28,7 @@ use wgpu::util::DeviceExt;
 use super::godrays::{marched_size, MarchInputs, Shafts};
 use super::resources::texture;
 use super::view::WorldCamera;
-use crate::gpu::{bind_group, Gpu};
+use crate::gpu::{bind, bind_group, Gpu};
 
 /// The froxel uniforms (`Froxel` in froxel.wgsl).
 #[repr(C)]
@@ -112,62 +112,26 @@ fn volume(gpu: &Gpu, [x, y, z]: [u32; 3]) -> wgpu::TextureView {
 }
 
 fn pipes(gpu: &Gpu) -> FroxelPipes {
-    use wgpu::BindingType as B;
-    let c = wgpu::ShaderStages::COMPUTE;
-    let entry = |binding: u32, ty: B| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: c,
-        ty,
-        count: None,
-    };
-    let tex = |sample_type, view_dimension| B::Texture {
-        sample_type,
-        view_dimension,
-        multisampled: false,
-    };
-    let buf = |ty| B::Buffer {
-        ty,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    };
-    let store = |view_dimension| B::StorageTexture {
-        access: wgpu::StorageTextureAccess::WriteOnly,
-        format: wgpu::TextureFormat::Rgba32Float,
-        view_dimension,
-    };
-    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
-    let (d2, d3) = (
-        wgpu::TextureViewDimension::D2,
-        wgpu::TextureViewDimension::D3,
+    let d3 = wgpu::TextureViewDimension::D3;
+    let rgba = wgpu::TextureFormat::Rgba32Float;
+    let layout = gpu.compute_layout(
+        "froxel",
+        &[
+            bind::uniform(),
+            bind::float_2d(),
+            bind::uint_2d(),
+            bind::depth_array(),
+            bind::comparison(),
+            bind::write_2d(rgba),
+            bind::storage(true),
+            bind::storage(true),
+            bind::depth_array(),
+            bind::uniform(),
+            bind::storage(false),
+            bind::texture(wgpu::TextureSampleType::Float { filterable: false }, d3),
+            bind::write(rgba, d3),
+        ],
     );
-    let depth_array = tex(
-        wgpu::TextureSampleType::Depth,
-        wgpu::TextureViewDimension::D2Array,
-    );
-    let ro = wgpu::BufferBindingType::Storage { read_only: true };
-    let layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("froxel"),
-            entries: &[
-                entry(0, buf(wgpu::BufferBindingType::Uniform)),
-                entry(1, tex(unfiltered, d2)),
-                entry(2, tex(wgpu::TextureSampleType::Uint, d2)),
-                entry(3, depth_array),
-                entry(4, B::Sampler(wgpu::SamplerBindingType::Comparison)),
-                entry(5, store(d2)),
-                entry(6, buf(ro)),
-                entry(7, buf(ro)),
-                entry(8, depth_array),
-                entry(9, buf(wgpu::BufferBindingType::Uniform)),
-                entry(
-                    10,
-                    buf(wgpu::BufferBindingType::Storage { read_only: false }),
-                ),
-                entry(11, tex(unfiltered, d3)),
-                entry(12, store(d3)),
-            ],
-        });
     let module = gpu.shader(
         "froxel.wgsl",
         concat!(

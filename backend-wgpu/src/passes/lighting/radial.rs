@@ -26,7 +26,7 @@ use wgpu::util::DeviceExt;
 
 use super::godrays::{image, image_divisor, marched_size, MarchInputs, Shafts};
 use super::pipelines::Pipelines;
-use crate::gpu::{bind_group, Gpu};
+use crate::gpu::{bind, bind_group, Gpu};
 
 /// One blur pass: its taps, their stride in the finest steps, the finest
 /// steps from a texel to the light's image.
@@ -94,54 +94,20 @@ pub struct Radial {
 }
 
 fn pipes(gpu: &Gpu) -> RadialPipes {
-    use wgpu::BindingType as B;
-    let c = wgpu::ShaderStages::COMPUTE;
-    let entry = |binding: u32, ty: B| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: c,
-        ty,
-        count: None,
-    };
-    let tex = |sample_type, view_dimension| B::Texture {
-        sample_type,
-        view_dimension,
-        multisampled: false,
-    };
-    let uniform = B::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    };
-    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
-    let d2 = wgpu::TextureViewDimension::D2;
-    let layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("radial"),
-            entries: &[
-                entry(0, uniform),
-                entry(1, tex(unfiltered, d2)),
-                entry(2, tex(wgpu::TextureSampleType::Uint, d2)),
-                entry(
-                    3,
-                    tex(
-                        wgpu::TextureSampleType::Depth,
-                        wgpu::TextureViewDimension::D2Array,
-                    ),
-                ),
-                entry(4, B::Sampler(wgpu::SamplerBindingType::Comparison)),
-                entry(5, tex(unfiltered, d2)),
-                entry(
-                    6,
-                    B::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: wgpu::TextureFormat::Rgba32Float,
-                        view_dimension: d2,
-                    },
-                ),
-                entry(7, uniform),
-            ],
-        });
+    let f = bind::float_2d();
+    let layout = gpu.compute_layout(
+        "radial",
+        &[
+            bind::uniform(),
+            f,
+            bind::uint_2d(),
+            bind::depth_array(),
+            bind::comparison(),
+            f,
+            bind::write_2d(wgpu::TextureFormat::Rgba32Float),
+            bind::uniform(),
+        ],
+    );
     let module = gpu.shader(
         "radial.wgsl",
         concat!(

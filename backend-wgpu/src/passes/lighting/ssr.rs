@@ -30,7 +30,7 @@ use himmel_skymodel::{RenderError, SsrSettings};
 
 use super::resources::{texture, GBuffer};
 use super::view::{CameraBlock, WorldCamera};
-use crate::gpu::{bind_group, Gpu};
+use crate::gpu::{bind, bind_group, Gpu};
 
 /// The pass's uniforms (`Ssr` in ssr.wgsl).
 #[repr(C)]
@@ -94,49 +94,15 @@ pub struct Reflections {
 
 const LIT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
-fn layout(gpu: &Gpu, label: &str, entries: &[wgpu::BindingType]) -> wgpu::BindGroupLayout {
-    let e: Vec<wgpu::BindGroupLayoutEntry> = entries
-        .iter()
-        .enumerate()
-        .map(|(k, ty)| wgpu::BindGroupLayoutEntry {
-            binding: k as u32,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: *ty,
-            count: None,
-        })
-        .collect();
-    gpu.device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some(label),
-            entries: &e,
-        })
-}
-
 fn pipes(gpu: &Gpu) -> SsrPipes {
-    let tex = |sample_type| wgpu::BindingType::Texture {
-        sample_type,
-        view_dimension: wgpu::TextureViewDimension::D2,
-        multisampled: false,
-    };
-    let storage = |format| wgpu::BindingType::StorageTexture {
-        access: wgpu::StorageTextureAccess::WriteOnly,
-        format,
-        view_dimension: wgpu::TextureViewDimension::D2,
-    };
-    let f = tex(wgpu::TextureSampleType::Float { filterable: false });
-    let uniform = wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    };
-    let gbuf = [uniform, f, f, tex(wgpu::TextureSampleType::Uint)];
+    let f = bind::float_2d();
+    let gbuf = [bind::uniform(), f, f, bind::uint_2d()];
     let mut hiz = gbuf.to_vec();
-    hiz.extend([storage(wgpu::TextureFormat::R32Float), f]);
-    let hiz_layout = layout(gpu, "ssr hiz", &hiz);
+    hiz.extend([bind::write_2d(wgpu::TextureFormat::R32Float), f]);
+    let hiz_layout = gpu.compute_layout("ssr hiz", &hiz);
     let resolve_layout = [
-        layout(gpu, "ssr gbuffer", &gbuf),
-        layout(
-            gpu,
+        gpu.compute_layout("ssr gbuffer", &gbuf),
+        gpu.compute_layout(
             "ssr resolve",
             &[
                 f,
@@ -144,8 +110,8 @@ fn pipes(gpu: &Gpu) -> SsrPipes {
                 f,
                 f,
                 f,
-                storage(LIT),
-                storage(wgpu::TextureFormat::R32Float),
+                bind::write_2d(LIT),
+                bind::write_2d(wgpu::TextureFormat::R32Float),
             ],
         ),
     ];

@@ -27,7 +27,7 @@ use himmel_skymodel::{RenderError, TemporalSettings};
 
 use super::resources::{texture, GBuffer};
 use super::view::{CameraBlock, WorldCamera};
-use crate::gpu::{bind_group, Gpu};
+use crate::gpu::{bind, bind_group, Gpu};
 
 /// Frames after which the jitter sequence repeats (2⁶: the Halton base-2
 /// coordinate then covers the pixel in 64 even steps).
@@ -161,51 +161,23 @@ const LIT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 const AUX: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 
 fn pipe(gpu: &Gpu) -> (wgpu::BindGroupLayout, wgpu::ComputePipeline) {
-    let tex = |sample_type| wgpu::BindingType::Texture {
-        sample_type,
-        view_dimension: wgpu::TextureViewDimension::D2,
-        multisampled: false,
-    };
-    let storage = |format| wgpu::BindingType::StorageTexture {
-        access: wgpu::StorageTextureAccess::WriteOnly,
-        format,
-        view_dimension: wgpu::TextureViewDimension::D2,
-    };
-    let f = tex(wgpu::TextureSampleType::Float { filterable: false });
-    let uniform = wgpu::BindingType::Buffer {
-        ty: wgpu::BufferBindingType::Uniform,
-        has_dynamic_offset: false,
-        min_binding_size: None,
-    };
-    let types = [
-        uniform,
-        f,
-        tex(wgpu::TextureSampleType::Uint),
-        f,
-        f,
-        f,
-        f,
-        storage(LIT),
-        storage(LIT),
-        storage(AUX),
-        f,
-    ];
-    let entries: Vec<wgpu::BindGroupLayoutEntry> = types
-        .iter()
-        .enumerate()
-        .map(|(k, ty)| wgpu::BindGroupLayoutEntry {
-            binding: k as u32,
-            visibility: wgpu::ShaderStages::COMPUTE,
-            ty: *ty,
-            count: None,
-        })
-        .collect();
-    let layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("temporal"),
-            entries: &entries,
-        });
+    let f = bind::float_2d();
+    let layout = gpu.compute_layout(
+        "temporal",
+        &[
+            bind::uniform(),
+            f,
+            bind::uint_2d(),
+            f,
+            f,
+            f,
+            f,
+            bind::write_2d(LIT),
+            bind::write_2d(LIT),
+            bind::write_2d(AUX),
+            f,
+        ],
+    );
     let module = gpu.shader(
         "temporal.wgsl",
         include_str!("../../shaders/lighting/temporal.wgsl"),
