@@ -48,6 +48,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::diffusion_grid::DiffusionGrid;
 use super::field::{HighField, LowField};
 use crate::atmosphere::medium::{henyey_greenstein_phase, safe_sqrt};
 
@@ -498,6 +499,22 @@ pub fn march_low(
     ambient: [f32; 3],
     settings: &MarchSettings,
 ) -> CloudHit {
+    march_low_with_grids(field, shell, view, lights, ambient, settings, &[])
+}
+
+/// [`march_low`] with the diffuse light of the diffusion model taken from
+/// `grids` (one per light, in `lights`' order, [`DiffusionGrid`]) where
+/// they cover the point; the column model elsewhere and for the lights
+/// beyond `grids`' length.
+pub fn march_low_with_grids(
+    field: &LowField,
+    shell: &Shell,
+    view: Vec3,
+    lights: &[CloudLight],
+    ambient: [f32; 3],
+    settings: &MarchSettings,
+    grids: &[DiffusionGrid],
+) -> CloudHit {
     let MarchSettings {
         steps,
         light_steps,
@@ -545,7 +562,7 @@ pub fn march_low(
         }
         let pos = origin + view * t;
         let mut src = [0.0f32; 3];
-        for ((lt, ph), lobes) in lights.iter().zip(&phases).zip(&lobes) {
+        for (k, ((lt, ph), lobes)) in lights.iter().zip(&phases).zip(&lobes).enumerate() {
             let tau = optical_depth_to_light(field, shell, pos, lt.dir, light_steps);
             let mut f = 0.0;
             let (mut ai, mut bi) = (1.0f32, 1.0f32);
@@ -558,7 +575,11 @@ pub fn march_low(
                 let gap = d.gap_density * field.extinction_per_km;
                 let tau_b = optical_depth_connected(field, shell, pos, -lt.dir, light_steps, gap);
                 let mu = slab_cosine(&d, field, shell, pos, sigma, lt.dir);
-                f += diffuse_source(&d, tau, tau_b, mu, view.dot(lt.dir));
+                let column = diffuse_source(&d, tau, tau_b, mu, view.dot(lt.dir));
+                f += match grids.get(k) {
+                    Some(g) => g.diffuse(column, xy, h, view),
+                    None => column,
+                };
                 f += forward_source(lobes, tau);
             }
             for c in 0..3 {

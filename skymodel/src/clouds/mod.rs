@@ -21,19 +21,21 @@
 //! 3's path tracer on the same density field (`tools/cloud_reference.py`,
 //! `tests/tests/cloud_mitsuba.rs`).
 
+pub mod diffusion_grid;
 pub mod field;
 pub mod height_field;
 pub mod march;
 pub mod noise;
 
+pub use diffusion_grid::{DiffusionGrid, GridError, GridSettings, GRID};
 pub use field::{HighField, LowField};
 pub use height_field::{march_height_field, HeightField};
 pub use march::{
-    diffuse_source, forward_lobes, forward_source, march_low, optical_depth_connected,
-    optical_depth_low, optical_depth_ray, optical_depth_through, optical_depth_to_light,
-    phase_power, shade_high, slab_cosine, CloudHit, CloudLight, CloudPhase, Diffusion,
-    MarchSettings, MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION, MAX_FORWARD_ORDERS,
-    MULTIPLE_SCATTERING, OCTAVES,
+    diffuse_source, forward_lobes, forward_source, march_low, march_low_with_grids,
+    optical_depth_connected, optical_depth_low, optical_depth_ray, optical_depth_through,
+    optical_depth_to_light, phase_power, shade_high, slab_cosine, CloudHit, CloudLight, CloudPhase,
+    Diffusion, MarchSettings, MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION,
+    MAX_FORWARD_ORDERS, MULTIPLE_SCATTERING, OCTAVES,
 };
 
 #[cfg(test)]
