@@ -118,6 +118,12 @@ struct Clouds {
     // warp's distance (km, 0: a regular grid), the number of light maps
     hf_map: vec4<f32>,
     hf_warp: vec4<f32>,
+    // diffusion_grid.rs `DiffusionGrid` (clouds_grid.wgsl): the grids'
+    // corner (x, y, altitude km) and cell (km); cells along x, y, z and
+    // the number of grids (0: the column model alone); weight, fade_km, g
+    grid_origin: vec4<f32>,
+    grid_dims: vec4<f32>,
+    grid_weight: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;
@@ -440,7 +446,8 @@ fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudH
                 let gap = clouds.diffusion_shape.x * clouds.low_extinction_per_km;
                 let tau_b = optical_depth_connected(pos, -ls.dir[j], clouds.light_steps, gap);
                 let mu = slab_cosine(pos, sigma, ls.dir[j]);
-                f = f + diffuse_source(tau, tau_b, mu, dot(view, ls.dir[j]));
+                let column = diffuse_source(tau, tau_b, mu, dot(view, ls.dir[j]));
+                f = f + grid_diffuse(j, column, xy, h, view);
                 f = f + forward_source(lobes[j], tau);
             }
             src = src + f * ls.rgb[j];

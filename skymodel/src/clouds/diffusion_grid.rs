@@ -73,10 +73,10 @@ pub struct GridSettings {
 
 /// The grid both backends use.
 pub const GRID: GridSettings = GridSettings {
-    cell_km: 0.1,
+    cell_km: 0.2,
     max_half_width_km: 8.0,
-    subsamples: 1,
-    min_cell_depth: 0.05,
+    subsamples: 2,
+    min_cell_depth: 0.1,
     g: super::march::DIFFUSION.g,
     gain: 1.0,
     weight: 0.5,
@@ -110,6 +110,10 @@ impl std::fmt::Display for GridError {
 
 impl std::error::Error for GridError {}
 
+/// Cells over which the grid's weight falls to 0 at its edge over an
+/// unbounded layer ([`DiffusionGrid::fade_km`]).
+pub const FADE_CELLS: f32 = 8.0;
+
 /// The most cells a grid may have.
 pub const MAX_CELLS: usize = 1 << 23;
 
@@ -141,6 +145,10 @@ pub struct DiffusionGrid {
     pub g: f32,
     /// The grid's weight against the column model ([`Self::diffuse`]).
     pub weight: f32,
+    /// Over an unbounded layer, the width of the band inside the grid's
+    /// edge over which the weight falls to 0 (the grid's sides are no
+    /// real cloud edge), km; 0 over a patch the grid covers.
+    pub fade_km: f32,
 }
 
 /// The six neighbours' offsets and unit normals.
@@ -438,6 +446,11 @@ impl DiffusionGrid {
             escaped: (escaped * (h * h) as f64) as f32,
             g: s.g,
             weight: s.weight,
+            fade_km: if half < field.half_extent_km {
+                FADE_CELLS * h
+            } else {
+                0.0
+            },
         })
     }
 
@@ -494,10 +507,25 @@ impl DiffusionGrid {
     /// [`Self::weight`] × the grid's [`Self::source`] + (1 − weight) ×
     /// `column`; `column` where the grid has no cloud.
     pub fn diffuse(&self, column: f32, xy: Vec2, h_km: f32, view: Vec3) -> f32 {
+        let w = self.weight_at(xy);
+        if w <= 0.0 {
+            return column;
+        }
         match self.source(xy, h_km, view) {
-            Some(grid) => self.weight * grid + (1.0 - self.weight) * column,
+            Some(grid) => w * grid + (1.0 - w) * column,
             None => column,
         }
+    }
+
+    /// [`Self::weight`] at `xy`, faded to 0 over [`Self::fade_km`] inside
+    /// the grid's edge.
+    pub fn weight_at(&self, xy: Vec2) -> f32 {
+        if self.fade_km <= 0.0 {
+            return self.weight;
+        }
+        let half = -self.origin.x;
+        let inside = half - xy.x.abs().max(xy.y.abs());
+        self.weight * (inside / self.fade_km).clamp(0.0, 1.0)
     }
 }
 
