@@ -493,15 +493,15 @@ fn the_diffusion_grid_against_mitsuba() {
 }
 
 /// The default model's radiance bounds: what it achieves, 5.5 % and
-/// 13.4 % on the test's field (Sun at 60° and 20°), 6.3 % and 14.2 % on
-/// seed 7 (the grid's cell, cell threshold and weight against the column
-/// model were chosen there), rounded up. A change that makes any worse
-/// fails.
+/// 13.0 % on the test's field (Sun at 60° and 20°), 6.3 % and 14.1 % on
+/// seed 7 (the grid's cell, cell threshold, beam step and weight against
+/// the column model were chosen there), rounded up. A change that makes
+/// any worse fails.
 fn grid_bound(field: &str, sun: &str) -> f64 {
     match (field, sun) {
         (TEST_FIELD, "sun60") => 0.06,
-        (TEST_FIELD, _) => 0.14,
+        (TEST_FIELD, _) => 0.135,
         (_, "sun60") => 0.07,
-        _ => 0.15,
+        _ => 0.145,
     }
 }

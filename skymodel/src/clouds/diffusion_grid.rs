@@ -80,7 +80,7 @@ pub const GRID: GridSettings = GridSettings {
     g: super::march::DIFFUSION.g,
     gain: 1.0,
     weight: 0.5,
-    beam_step_km: 0.05,
+    beam_step_km: 0.1,
     max_iterations: 600,
     tolerance: 1e-4,
 };
