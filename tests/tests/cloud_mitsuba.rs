@@ -2,8 +2,9 @@
 //! references of `tests/fixtures/cloud_ref/` (`tools/cloud_reference.py`:
 //! Himmel's own density field exported on a voxel grid, Mitsuba's `volpath`
 //! with every order of scattering) beside Himmel's march of the same field
-//! ([`march_low`]: self-shadowing light march and each multiple-scattering
-//! model, the default diffusion solution and Wrenninge's octaves), in
+//! ([`march_low_with_grids`]: self-shadowing light march and each
+//! multiple-scattering model, the default diffusion solution with its 3D
+//! grid, the column model alone and Wrenninge's octaves), in
 //! the isolated configuration: a directional Sun of irradiance 1, no
 //! atmosphere, no sky light, a black world.
 //!

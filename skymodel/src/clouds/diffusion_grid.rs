@@ -1,8 +1,10 @@
 //! A 3D estimate of the low layer's diffuse light: the diffusion (P1,
 //! Eddington) equation solved on a coarse grid of cells over the cloud,
-//! per light ([`DiffusionGrid::build`]), sampled by the view march in
-//! place of the column model of [`super::diffuse_source`]
-//! ([`super::march_low_with_grids`]).
+//! per light ([`DiffusionGrid::build`]), sampled by the view march and
+//! blended with the column model of [`super::diffuse_source`]
+//! ([`super::march_low_with_grids`], [`DiffusionGrid::diffuse`]: half
+//! each by default, which is within 15 % of Mitsuba at Sun altitudes of
+//! 20° and 60° where either alone is not, `tests/tests/cloud_mitsuba.rs`).
 //!
 //! The column model sees the cloud along one line through the point; the
 //! light a low Sun puts into a cumulus's flank and lets out through its

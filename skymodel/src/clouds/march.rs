@@ -35,7 +35,10 @@
 //!   bright as a path tracer finds it and the thin edges no brighter than
 //!   their single scattering; the light scattered a few times into the
 //!   droplets' forward peak, which diffusion spreads over all directions,
-//!   is added back along the beam ([`forward_lobes`]);
+//!   is added back along the beam ([`forward_lobes`]); by default half
+//!   of the diffuse light comes instead from a 3D solve of the diffusion
+//!   equations over the layer ([`super::diffusion_grid`],
+//!   [`march_low_with_grids`]), which sees the light a column cannot;
 //! * [`MultipleScattering::Octaves`]: Wrenninge's (2013) octaves
 //!   (Hillaire 2016), `S = Σ_{i<N} bⁱ · p(cos θ; cⁱ g) · E · e^{−aⁱ τ_l}`,
 //!   one light march, cheaper, but blind to the Sun's altitude and to how

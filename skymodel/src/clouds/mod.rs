@@ -9,6 +9,9 @@
 //! * [`height_field`] — the cheap tier of the low layer: the field
 //!   reduced to per-column bottom, top and mean extinction maps, rays
 //!   intersected with that volume by a few probes (Dubé 2005);
+//! * [`diffusion_grid`] — the low layer's diffuse light solved in 3D (P1
+//!   equations on a coarse grid, once per light), blended with the
+//!   column model by the view march;
 //! * [`march`] — the view ray's march through the low layer with
 //!   self-shadowing and Wrenninge's multiple-scattering octaves, the
 //!   optical depth of a ray (the direct Sun's transmittance), and the high
