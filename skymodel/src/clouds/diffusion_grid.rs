@@ -147,6 +147,8 @@ pub struct DiffusionGrid {
     pub g: f32,
     /// The grid's weight against the column model ([`Self::diffuse`]).
     pub weight: f32,
+    /// Half-width of the square the grid covers around the observer, km.
+    pub half_width_km: f32,
     /// Over an unbounded layer, the width of the band inside the grid's
     /// edge over which the weight falls to 0 (the grid's sides are no
     /// real cloud edge), km; 0 over a patch the grid covers.
@@ -348,14 +350,30 @@ impl DiffusionGrid {
             ));
         }
         let half = field.half_extent_km.min(s.max_half_width_km);
-        let nxy = ((2.0 * half / s.cell_km).ceil() as usize).max(1);
+        let unbounded = half < field.half_extent_km;
+        // Over an unbounded layer the cells move with the wind's field
+        // (the corner shifted by the wind offset modulo a cell, one more
+        // cell per side): a translated field gives the same cells.
+        let (corner, extra) = if unbounded {
+            let shift = |o: f32| o.rem_euclid(s.cell_km) - s.cell_km;
+            (
+                Vec2::new(
+                    -half + shift(field.offset_km.x),
+                    -half + shift(field.offset_km.y),
+                ),
+                1,
+            )
+        } else {
+            (Vec2::splat(-half), 0)
+        };
+        let nxy = ((2.0 * half / s.cell_km).ceil() as usize).max(1) + extra;
         let nz = ((field.thickness_km() / s.cell_km).ceil() as usize).max(1);
         let count = nxy * nxy * nz;
         if count > MAX_CELLS {
             return Err(GridError::TooLarge(count));
         }
         let h = s.cell_km;
-        let origin = Vec3::new(-half, -half, field.base_km);
+        let origin = Vec3::new(corner.x, corner.y, field.base_km);
         let sub = s.subsamples;
         let centre = |i: usize| -> Vec3 {
             let (x, y, z) = (i % nxy, (i / nxy) % nxy, i / (nxy * nxy));
@@ -448,11 +466,8 @@ impl DiffusionGrid {
             escaped: (escaped * (h * h) as f64) as f32,
             g: s.g,
             weight: s.weight,
-            fade_km: if half < field.half_extent_km {
-                FADE_CELLS * h
-            } else {
-                0.0
-            },
+            half_width_km: half,
+            fade_km: if unbounded { FADE_CELLS * h } else { 0.0 },
         })
     }
 
@@ -525,7 +540,7 @@ impl DiffusionGrid {
         if self.fade_km <= 0.0 {
             return self.weight;
         }
-        let half = -self.origin.x;
+        let half = self.half_width_km;
         let inside = half - xy.x.abs().max(xy.y.abs());
         self.weight * (inside / self.fade_km).clamp(0.0, 1.0)
     }
@@ -599,6 +614,42 @@ mod tests {
         };
         let (low, high) = (total(0.35), total(1.2));
         assert!(high > low, "{low} {high}");
+    }
+
+    /// Over an unbounded layer the cells move with the field: the wind
+    /// carrying it 1.234 km gives the same diffuse light 1.234 km
+    /// downwind (away from the grid's edges).
+    #[test]
+    fn the_cells_follow_the_wind() {
+        let mut f = field();
+        f.half_extent_km = f32::INFINITY;
+        let settings = GridSettings {
+            cell_km: 0.2,
+            max_half_width_km: 4.0,
+            ..GRID
+        };
+        let light = Vec3::new(0.5, 0.2, 0.6).normalize();
+        let a = DiffusionGrid::build(&f, &SHELL, light, &settings).unwrap();
+        let shift = Vec2::new(1.234, -0.567);
+        f.offset_km += shift;
+        let b = DiffusionGrid::build(&f, &SHELL, light, &settings).unwrap();
+        let (mut n, mut worst) = (0, 0.0f32);
+        for i in 0..20 {
+            for j in 0..20 {
+                for k in 0..5 {
+                    let xy = Vec2::new(-1.5 + 0.09 * i as f32, -0.8 + 0.09 * j as f32);
+                    let h = 1.1 + 0.2 * k as f32;
+                    if let (Some((ua, _)), Some((ub, _))) =
+                        (a.sample(xy, h), b.sample(xy + shift, h))
+                    {
+                        n += 1;
+                        worst = worst.max((ua - ub).abs() / ua.max(ub).max(1e-3));
+                    }
+                }
+            }
+        }
+        assert!(n > 50, "{n}");
+        assert!(worst < 0.05, "{worst}");
     }
 
     #[test]
