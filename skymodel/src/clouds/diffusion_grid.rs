@@ -67,6 +67,9 @@ pub struct GridSettings {
     pub weight: f32,
     /// Length of the light march's steps for the direct beam, km.
     pub beam_step_km: f32,
+    /// The most steps of a beam's light march (a light near or below the
+    /// horizon takes longer steps, not more).
+    pub max_beam_steps: u32,
     /// Conjugate-gradient iterations at most.
     pub max_iterations: u32,
     /// Relative residual at which the solve stops.
@@ -83,6 +86,7 @@ pub const GRID: GridSettings = GridSettings {
     gain: 1.0,
     weight: 0.5,
     beam_step_km: 0.1,
+    max_beam_steps: 48,
     max_iterations: 600,
     tolerance: 1e-4,
 };
@@ -383,7 +387,8 @@ impl DiffusionGrid {
         let beam_at = |p: Vec3| {
             let pos = Vec3::new(p.x, p.y, shell.r_ground + p.z);
             let mu = light.z.max(1e-3);
-            let steps = (((field.top_km - p.z) / mu / s.beam_step_km).ceil() as u32).clamp(1, 400);
+            let steps = (((field.top_km - p.z) / mu / s.beam_step_km).ceil() as u32)
+                .clamp(1, s.max_beam_steps.max(1));
             (-optical_depth_to_light(field, shell, pos, light, steps)).exp()
         };
         // Per cell: mean σ, mean σ E_b and mean E_b over its sub-samples.
