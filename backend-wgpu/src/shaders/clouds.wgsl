@@ -390,7 +390,8 @@ struct CloudLights {
 }
 
 // ======================= march.rs `march_low` — BEGIN =======================
-// Mirrors the Rust function line for line; re-sync this block when
+// Mirrors the Rust function (`march_low_with_grids`: the diffusion
+// grids of clouds_grid.wgsl) line for line; re-sync this block when
 // march.rs changes. Field, shell and settings come from `clouds`.
 fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudHit {
     let n_oct = clamp(clouds.octave_count, 1u, 8u);
