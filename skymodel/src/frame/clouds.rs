@@ -214,7 +214,11 @@ impl CloudFrame {
             }
             _ => Vec::new(),
         };
-        let diffusion_grid_ms = clock.elapsed().as_secs_f64() * 1e3;
+        let diffusion_grid_ms = if diffusion_grids.is_empty() {
+            0.0
+        } else {
+            clock.elapsed().as_secs_f64() * 1e3
+        };
         let mut frame = CloudFrame {
             low,
             high: c.has_high().then(|| HighField::new(&c.high, seconds)),
