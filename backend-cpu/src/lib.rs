@@ -174,6 +174,7 @@ impl SkyRenderer for CpuRenderer {
             geometry_ms,
             sky_view_ms: plan.sky_view_ms,
             cloud_maps_ms: plan.clouds.as_ref().map_or(0.0, |c| c.height_field_ms),
+            cloud_grid_ms: plan.clouds.as_ref().map_or(0.0, |c| c.diffusion_grid_ms),
             lights,
         })
     }

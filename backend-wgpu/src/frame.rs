@@ -40,6 +40,8 @@ pub struct GpuFrame {
     pub sky_view_ms: f64,
     /// Time of the low clouds' height-field maps (CPU, frame plan), ms.
     pub cloud_maps_ms: f64,
+    /// Time of the low clouds' diffusion grids (CPU, frame plan), ms.
+    pub cloud_grid_ms: f64,
     /// How the stars and planets were drawn (`None` when neither pass
     /// ran): the renderer's [`PointMethod`], or tiles where a quad target
     /// of the image's width exceeds the adapter's texture limit.

@@ -442,6 +442,7 @@ impl WgpuRenderer {
             lut_source: plan.lut_origin,
             sky_view_ms: plan.sky_view_ms,
             cloud_maps_ms: plan.clouds.as_ref().map_or(0.0, |c| c.height_field_ms),
+            cloud_grid_ms: plan.clouds.as_ref().map_or(0.0, |c| c.diffusion_grid_ms),
             points,
             lights,
         })
@@ -663,6 +664,7 @@ impl SkyRenderer for WgpuRenderer {
             geometry_ms: 0.0,
             sky_view_ms: frame.sky_view_ms,
             cloud_maps_ms: frame.cloud_maps_ms,
+            cloud_grid_ms: frame.cloud_grid_ms,
             lights: frame.lights,
         })
     }

@@ -624,6 +624,7 @@ pub(crate) fn frame_stats(
         "geometry_ms": out.geometry_ms,
         "sky_view_ms": out.sky_view_ms,
         "cloud_maps_ms": out.cloud_maps_ms,
+        "cloud_grid_ms": out.cloud_grid_ms,
         "write_ms": frame.write_ms,
         "overlay_ms": frame.overlay_ms,
         "ev100": frame.ev100,

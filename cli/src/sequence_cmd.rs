@@ -260,6 +260,7 @@ impl SequenceRun<'_> {
                 "lut_source": w.out.lut_source,
                 "sky_view_ms": w.out.sky_view_ms,
                 "cloud_maps_ms": w.out.cloud_maps_ms,
+                "cloud_grid_ms": w.out.cloud_grid_ms,
                 "passes": passes,
                 "non_finite_pixels": w
                     .out

@@ -668,6 +668,8 @@ fn cloud_flags_and_keys() {
             tier == "heightfield",
             "{backend} {tier}: {maps}"
         );
+        let grid = s["cloud_grid_ms"].as_f64().unwrap();
+        assert_eq!(grid > 0.0, tier == "volumetric", "{backend} {tier}: {grid}");
         let clouds = s["passes"]
             .as_array()
             .unwrap()

@@ -69,6 +69,10 @@ pub struct RenderOutput {
     /// (`clouds.low.tier = "heightfield"`: on the CPU, in the frame plan,
     /// before the clouds pass), ms; 0 without them.
     pub cloud_maps_ms: f64,
+    /// Time spent building the low layer's 3D diffusion grids
+    /// (`clouds.low.scattering = "diffusion"` in the volumetric tier: on
+    /// the CPU, in the frame plan, one per light), ms; 0 without them.
+    pub cloud_grid_ms: f64,
     /// The Sun and Moon as directional lights and the sky's horizontal
     /// illuminance at this instant (what a 3D world receives).
     pub lights: ObserverLights,

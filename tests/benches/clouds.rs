@@ -5,13 +5,16 @@
 //! octaves, one), the height-field tier's probes through its maps and the
 //! maps' build (once per frame; `clouds.low.tier = "heightfield"`), and
 //! the high layer's shading, over a fan of 256 view rays above 20°
-//! altitude.
+//! altitude; the default diffusion model's 3D grid (its build, once per
+//! light and frame, over the unbounded layer's 16 km square) and the march
+//! that reads it.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use glam::Vec3;
 use himmel_skymodel::clouds::{
-    march_height_field, march_low, shade_high, CloudLight, HeightField, HighField, LowField,
-    MarchSettings, MultipleScattering, Shell, DIFFUSION, OCTAVES,
+    march_height_field, march_low, march_low_with_grids, shade_high, CloudLight, DiffusionGrid,
+    HeightField, HighField, LowField, MarchSettings, MultipleScattering, Shell, DIFFUSION, GRID,
+    OCTAVES,
 };
 use himmel_skymodel::scene::{HighCloudSpec, LowCloudSpec};
 
@@ -74,6 +77,28 @@ fn bench(c: &mut Criterion) {
         scattering: MultipleScattering::Diffusion(DIFFUSION),
     };
     let dirs = [lights[0].dir];
+    c.bench_function("clouds/diffusion_grid_build", |b| {
+        b.iter(|| {
+            DiffusionGrid::build(&low, &shell, dirs[0], &GRID)
+                .map(|g| g.iterations)
+                .unwrap_or(0)
+        })
+    });
+    if let Ok(grid) = DiffusionGrid::build(&low, &shell, dirs[0], &GRID) {
+        let grids = [grid];
+        c.bench_function("clouds/low_march_256_rays_diffusion_grid", |b| {
+            b.iter(|| {
+                rays.iter()
+                    .map(|&v| {
+                        march_low_with_grids(
+                            &low, &shell, v, &lights, [1.0e3; 3], &settings, &grids,
+                        )
+                        .transmittance
+                    })
+                    .sum::<f32>()
+            })
+        });
+    }
     c.bench_function("clouds/height_field_maps_build", |b| {
         b.iter(|| HeightField::build(&low, &shell, &dirs, &settings).n)
     });

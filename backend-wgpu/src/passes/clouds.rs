@@ -49,6 +49,7 @@ pub const CLOUDS_WGSL: &str = concat!(
     include_str!("../shaders/clouds.wgsl"),
     include_str!("../shaders/clouds_diffusion.wgsl"),
     include_str!("../shaders/clouds_heightfield.wgsl"),
+    include_str!("../shaders/clouds_grid.wgsl"),
     include_str!("../shaders/atmo.wgsl"),
     include_str!("../shaders/medium.wgsl"),
     include_str!("../shaders/bilinear.wgsl")
@@ -198,9 +199,16 @@ pub struct CloudUniforms {
     pub hf_map: [f32; 4],
     /// `HeightField::warp_km`, the number of `light_dirs`, 0, 0.
     pub hf_warp: [f32; 4],
+    /// The diffusion grids' (`clouds_grid.wgsl`) corner (km) and cell
+    /// (km).
+    pub grid_origin: [f32; 4],
+    /// Cells along x, y, z and the number of grids (0: none).
+    pub grid_dims: [f32; 4],
+    /// `DiffusionGrid::weight`, `fade_km`, `g`, 0.
+    pub grid_weight: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 512);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 560);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -298,6 +306,13 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
         ];
         u.hf_warp = [hf.warp_km, hf.light_dirs.len().min(2) as f32, 0.0, 0.0];
     }
+    if let Some(g) = c.diffusion_grids.first() {
+        u.grid_origin = g.origin.extend(g.cell_km).to_array();
+        let [nx, ny, nz] = g.dims;
+        let count = c.diffusion_grids.len().min(2);
+        u.grid_dims = [nx as f32, ny as f32, nz as f32, count as f32];
+        u.grid_weight = [g.weight, g.fade_km, g.g, 0.0];
+    }
     u.ground_count = c.ground_direct.len().min(2) as u32;
     u.ground_flat = (c.shell.r_observer - c.shell.r_ground < 1e-3) as u32;
     for (k, g) in c.ground_direct.iter().take(2).enumerate() {
@@ -324,6 +339,21 @@ pub fn cloud_uniforms(c: &CloudFrame, air: Option<&SkyInputs>) -> CloudUniforms 
         }
     }
     u
+}
+
+/// The cells of the frame's diffusion grids (at most 2) for
+/// `clouds_grid.wgsl`: (U, F) per cell, U = −1 in a clear cell.
+fn grid_cells(c: &CloudFrame) -> Vec<[f32; 4]> {
+    c.diffusion_grids
+        .iter()
+        .take(2)
+        .flat_map(|g| {
+            g.cells
+                .iter()
+                .zip(&g.cloudy)
+                .map(|(cell, &cloudy)| if cloudy { *cell } else { [-1.0, 0.0, 0.0, 0.0] })
+        })
+        .collect()
 }
 
 /// The clouds pass.
@@ -405,6 +435,14 @@ impl CloudsPass {
                     .create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some("cloud height field"),
                         contents: bytemuck::cast_slice(&all),
+                        usage: wgpu::BufferUsages::STORAGE,
+                    })
+            }
+            None if !c.diffusion_grids.is_empty() => {
+                gpu.device
+                    .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("cloud diffusion grids"),
+                        contents: bytemuck::cast_slice(&grid_cells(c)),
                         usage: wgpu::BufferUsages::STORAGE,
                     })
             }
@@ -533,6 +571,9 @@ mod tests {
                 diffusion_shape,
                 hf_map,
                 hf_warp,
+                grid_origin,
+                grid_dims,
+                grid_weight,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);

@@ -118,6 +118,12 @@ struct Clouds {
     // warp's distance (km, 0: a regular grid), the number of light maps
     hf_map: vec4<f32>,
     hf_warp: vec4<f32>,
+    // diffusion_grid.rs `DiffusionGrid` (clouds_grid.wgsl): the grids'
+    // corner (x, y, altitude km) and cell (km); cells along x, y, z and
+    // the number of grids (0: the column model alone); weight, fade_km, g
+    grid_origin: vec4<f32>,
+    grid_dims: vec4<f32>,
+    grid_weight: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;
@@ -384,7 +390,8 @@ struct CloudLights {
 }
 
 // ======================= march.rs `march_low` — BEGIN =======================
-// Mirrors the Rust function line for line; re-sync this block when
+// Mirrors the Rust function (`march_low_with_grids`: the diffusion
+// grids of clouds_grid.wgsl) line for line; re-sync this block when
 // march.rs changes. Field, shell and settings come from `clouds`.
 fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudHit {
     let n_oct = clamp(clouds.octave_count, 1u, 8u);
@@ -440,7 +447,8 @@ fn march_low(view: vec3<f32>, lights: CloudLights, ambient: vec3<f32>) -> CloudH
                 let gap = clouds.diffusion_shape.x * clouds.low_extinction_per_km;
                 let tau_b = optical_depth_connected(pos, -ls.dir[j], clouds.light_steps, gap);
                 let mu = slab_cosine(pos, sigma, ls.dir[j]);
-                f = f + diffuse_source(tau, tau_b, mu, dot(view, ls.dir[j]));
+                let column = diffuse_source(tau, tau_b, mu, dot(view, ls.dir[j]));
+                f = f + grid_diffuse(j, column, xy, h, view);
                 f = f + forward_source(lobes[j], tau);
             }
             src = src + f * ls.rgb[j];

@@ -35,7 +35,10 @@
 //!   bright as a path tracer finds it and the thin edges no brighter than
 //!   their single scattering; the light scattered a few times into the
 //!   droplets' forward peak, which diffusion spreads over all directions,
-//!   is added back along the beam ([`forward_lobes`]);
+//!   is added back along the beam ([`forward_lobes`]); by default half
+//!   of the diffuse light comes instead from a 3D solve of the diffusion
+//!   equations over the layer ([`super::diffusion_grid`],
+//!   [`march_low_with_grids`]), which sees the light a column cannot;
 //! * [`MultipleScattering::Octaves`]: Wrenninge's (2013) octaves
 //!   (Hillaire 2016), `S = Σ_{i<N} bⁱ · p(cos θ; cⁱ g) · E · e^{−aⁱ τ_l}`,
 //!   one light march, cheaper, but blind to the Sun's altitude and to how
@@ -48,6 +51,7 @@
 
 use glam::{Vec2, Vec3};
 
+use super::diffusion_grid::DiffusionGrid;
 use super::field::{HighField, LowField};
 use crate::atmosphere::medium::{henyey_greenstein_phase, safe_sqrt};
 
@@ -498,6 +502,22 @@ pub fn march_low(
     ambient: [f32; 3],
     settings: &MarchSettings,
 ) -> CloudHit {
+    march_low_with_grids(field, shell, view, lights, ambient, settings, &[])
+}
+
+/// [`march_low`] with the diffuse light of the diffusion model taken from
+/// `grids` (one per light, in `lights`' order, [`DiffusionGrid`]) where
+/// they cover the point; the column model elsewhere and for the lights
+/// beyond `grids`' length.
+pub fn march_low_with_grids(
+    field: &LowField,
+    shell: &Shell,
+    view: Vec3,
+    lights: &[CloudLight],
+    ambient: [f32; 3],
+    settings: &MarchSettings,
+    grids: &[DiffusionGrid],
+) -> CloudHit {
     let MarchSettings {
         steps,
         light_steps,
@@ -545,7 +565,7 @@ pub fn march_low(
         }
         let pos = origin + view * t;
         let mut src = [0.0f32; 3];
-        for ((lt, ph), lobes) in lights.iter().zip(&phases).zip(&lobes) {
+        for (k, ((lt, ph), lobes)) in lights.iter().zip(&phases).zip(&lobes).enumerate() {
             let tau = optical_depth_to_light(field, shell, pos, lt.dir, light_steps);
             let mut f = 0.0;
             let (mut ai, mut bi) = (1.0f32, 1.0f32);
@@ -558,7 +578,11 @@ pub fn march_low(
                 let gap = d.gap_density * field.extinction_per_km;
                 let tau_b = optical_depth_connected(field, shell, pos, -lt.dir, light_steps, gap);
                 let mu = slab_cosine(&d, field, shell, pos, sigma, lt.dir);
-                f += diffuse_source(&d, tau, tau_b, mu, view.dot(lt.dir));
+                let column = diffuse_source(&d, tau, tau_b, mu, view.dot(lt.dir));
+                f += match grids.get(k) {
+                    Some(g) => g.diffuse(column, xy, h, view),
+                    None => column,
+                };
                 f += forward_source(lobes, tau);
             }
             for c in 0..3 {

@@ -9,6 +9,9 @@
 //! * [`height_field`] — the cheap tier of the low layer: the field
 //!   reduced to per-column bottom, top and mean extinction maps, rays
 //!   intersected with that volume by a few probes (Dubé 2005);
+//! * [`diffusion_grid`] — the low layer's diffuse light solved in 3D (P1
+//!   equations on a coarse grid, once per light), blended with the
+//!   column model by the view march;
 //! * [`march`] — the view ray's march through the low layer with
 //!   self-shadowing and Wrenninge's multiple-scattering octaves, the
 //!   optical depth of a ray (the direct Sun's transmittance), and the high
@@ -21,19 +24,21 @@
 //! 3's path tracer on the same density field (`tools/cloud_reference.py`,
 //! `tests/tests/cloud_mitsuba.rs`).
 
+pub mod diffusion_grid;
 pub mod field;
 pub mod height_field;
 pub mod march;
 pub mod noise;
 
+pub use diffusion_grid::{DiffusionGrid, GridError, GridSettings, GRID};
 pub use field::{HighField, LowField};
 pub use height_field::{march_height_field, HeightField};
 pub use march::{
-    diffuse_source, forward_lobes, forward_source, march_low, optical_depth_connected,
-    optical_depth_low, optical_depth_ray, optical_depth_through, optical_depth_to_light,
-    phase_power, shade_high, slab_cosine, CloudHit, CloudLight, CloudPhase, Diffusion,
-    MarchSettings, MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION, MAX_FORWARD_ORDERS,
-    MULTIPLE_SCATTERING, OCTAVES,
+    diffuse_source, forward_lobes, forward_source, march_low, march_low_with_grids,
+    optical_depth_connected, optical_depth_low, optical_depth_ray, optical_depth_through,
+    optical_depth_to_light, phase_power, shade_high, slab_cosine, CloudHit, CloudLight, CloudPhase,
+    Diffusion, MarchSettings, MultipleScattering, Octaves, Shell, CLOUD_PHASE, DIFFUSION,
+    MAX_FORWARD_ORDERS, MULTIPLE_SCATTERING, OCTAVES,
 };
 
 #[cfg(test)]

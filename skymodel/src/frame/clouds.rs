@@ -40,8 +40,9 @@ use super::lights::AerialPerspective;
 use super::sky_light::SkyInputs;
 use crate::atmosphere::{AtmosphereLuts, SkyView};
 use crate::clouds::{
-    march_height_field, march_low, shade_high, CloudHit, CloudLight, HeightField, HighField,
-    LowField, MarchSettings, MultipleScattering, Shell, DIFFUSION, OCTAVES,
+    march_height_field, march_low_with_grids, shade_high, CloudHit, CloudLight, DiffusionGrid,
+    HeightField, HighField, LowField, MarchSettings, MultipleScattering, Shell, DIFFUSION, GRID,
+    OCTAVES,
 };
 use crate::moon::lunar_reflectance_spectrum;
 use crate::scene::Scene;
@@ -106,6 +107,13 @@ pub struct CloudFrame {
     pub height_field: Option<Arc<HeightField>>,
     /// Time spent building [`Self::height_field`], ms.
     pub height_field_ms: f64,
+    /// The volumetric tier's 3D diffusion grids, one per light in
+    /// [`Self::light_sources`]' order, when `clouds.low.scattering` is
+    /// `diffusion` ([`DiffusionGrid`]: half the diffuse light; empty: the
+    /// column model alone).
+    pub diffusion_grids: Arc<Vec<DiffusionGrid>>,
+    /// Time spent building [`Self::diffusion_grids`], ms.
+    pub diffusion_grid_ms: f64,
     /// The sky's mean downward radiance, linear sRGB, cd/m².
     pub ambient_rgb: [f32; 3],
     /// The direct part of the ground's luminance below the horizon, per
@@ -177,7 +185,9 @@ impl CloudFrame {
             steps: c.low.steps,
             light_steps: c.low.light_steps,
             scattering: match c.low.scattering {
-                CloudScattering::Diffusion => MultipleScattering::Diffusion(DIFFUSION),
+                CloudScattering::Diffusion | CloudScattering::Column => {
+                    MultipleScattering::Diffusion(DIFFUSION)
+                }
                 CloudScattering::Octaves => MultipleScattering::Octaves(OCTAVES),
             },
         };
@@ -190,6 +200,25 @@ impl CloudFrame {
             Some(_) => clock.elapsed().as_secs_f64() * 1e3,
             None => 0.0,
         };
+        let clock = std::time::Instant::now();
+        // A grid that cannot be built (a layer too thick for
+        // `diffusion_grid::MAX_CELLS`) leaves the column model alone.
+        let diffusion_grids: Vec<DiffusionGrid> = match low {
+            Some(f)
+                if c.low.tier == LowCloudTier::Volumetric
+                    && c.low.scattering == CloudScattering::Diffusion =>
+            {
+                dirs.iter()
+                    .filter_map(|&d| DiffusionGrid::build(&f, &shell, d, &GRID).ok())
+                    .collect()
+            }
+            _ => Vec::new(),
+        };
+        let diffusion_grid_ms = if diffusion_grids.is_empty() {
+            0.0
+        } else {
+            clock.elapsed().as_secs_f64() * 1e3
+        };
         let mut frame = CloudFrame {
             low,
             high: c.has_high().then(|| HighField::new(&c.high, seconds)),
@@ -198,6 +227,8 @@ impl CloudFrame {
             march_stride: c.low.march_stride,
             height_field,
             height_field_ms,
+            diffusion_grids: Arc::new(diffusion_grids),
+            diffusion_grid_ms,
             ambient_rgb,
             ground_direct,
             ground_at_observer: Vec::new(),
@@ -261,7 +292,15 @@ impl CloudFrame {
                 self.ambient_rgb,
                 &self.march,
             ),
-            None => march_low(f, &self.shell, view, &lights, self.ambient_rgb, &self.march),
+            None => march_low_with_grids(
+                f,
+                &self.shell,
+                view,
+                &lights,
+                self.ambient_rgb,
+                &self.march,
+                &self.diffusion_grids,
+            ),
         }
     }
 
