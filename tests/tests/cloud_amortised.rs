@@ -52,7 +52,7 @@ fn rgb(img: &HdrImage) -> RgbImage {
 /// the pixels that show the sky.
 fn marched(s: &Scene) -> (usize, usize) {
     let state = SkyState::at(s).expect("state");
-    let frame = CloudFrame::prepare(s, &state, None, None, None);
+    let frame = CloudFrame::prepare(s, &state, None, None, None, &mut Default::default());
     let dirs = PixelDirections::new(&s.camera);
     let grid = LowCloudGrid::build(&frame, &dirs, s.clouds.low.march_stride as usize);
     let (w, h) = dirs.size();

@@ -85,7 +85,7 @@ fn cloud_shadows_fall_on_the_world() {
     // The sky model's transmittance towards the Sun from the plane.
     let s = scene(true, true);
     let state = SkyState::at(&s).expect("state");
-    let clouds = CloudFrame::prepare(&s, &state, None, None, None);
+    let clouds = CloudFrame::prepare(&s, &state, None, None, None, &mut Default::default());
     let sun = state.sun.dir().as_vec3().normalize();
     let w = s.camera.width as usize;
     let y = |o: &RenderOutput, i: usize| luminance(o.image.pixels[i].map(f64::from));

@@ -593,7 +593,7 @@ mod tests {
         s.clouds.low.extent_km = 3.0;
         s.clouds.high.coverage = 0.3;
         let state = SkyState::at(&s).expect("state");
-        let c = CloudFrame::prepare(&s, &state, None, None, None);
+        let c = CloudFrame::prepare(&s, &state, None, None, None, &mut Default::default());
         let u = cloud_uniforms(&c, None);
         let (low, high) = (c.low.expect("low"), c.high.expect("high"));
         assert_eq!((u.has_low, u.has_high, u.air), (1, 1, 0));
@@ -631,7 +631,7 @@ mod tests {
         assert_eq!(u.light0_dir, cpu[0].dir.to_array());
         // An unbounded layer: a finite half-width no position exceeds.
         s.clouds.low.extent_km = 0.0;
-        let c = CloudFrame::prepare(&s, &state, None, None, None);
+        let c = CloudFrame::prepare(&s, &state, None, None, None, &mut Default::default());
         assert_eq!(cloud_uniforms(&c, None).low_half_extent_km, f32::MAX);
     }
 }

@@ -153,6 +153,8 @@ pub struct DiffusionGrid {
     pub weight: f32,
     /// Half-width of the square the grid covers around the observer, km.
     pub half_width_km: f32,
+    /// The field's wind offset the grid was built or moved for, km.
+    pub offset_km: Vec2,
     /// Over an unbounded layer, the width of the band inside the grid's
     /// edge over which the weight falls to 0 (the grid's sides are no
     /// real cloud edge), km; 0 over a patch the grid covers.
@@ -472,8 +474,35 @@ impl DiffusionGrid {
             g: s.g,
             weight: s.weight,
             half_width_km: half,
+            offset_km: field.offset_km,
             fade_km: if unbounded { FADE_CELLS * h } else { 0.0 },
         })
+    }
+
+    /// This grid moved with the wind to `field`'s offset, where that is the
+    /// grid [`Self::build`] would give for `field` and the same light: over
+    /// an unbounded layer the cells are the field's own lattice, so while
+    /// the offset stays within the same lattice step the cells hold the
+    /// same cloud and only the corner moves; over a patch the grid stays
+    /// put, so only an unchanged offset keeps it. `None`: build anew.
+    pub fn follow(&self, field: &LowField) -> Option<DiffusionGrid> {
+        let h = self.cell_km;
+        if self.fade_km == 0.0 {
+            return (field.offset_km == self.offset_km).then(|| self.clone());
+        }
+        let step = |o: Vec2| ((o.x / h).floor(), (o.y / h).floor());
+        if step(field.offset_km) != step(self.offset_km) {
+            return None;
+        }
+        let shift = |o: f32| o.rem_euclid(h) - h;
+        let corner = Vec2::new(
+            -self.half_width_km + shift(field.offset_km.x),
+            -self.half_width_km + shift(field.offset_km.y),
+        );
+        let mut g = self.clone();
+        g.origin = Vec3::new(corner.x, corner.y, self.origin.z);
+        g.offset_km = field.offset_km;
+        Some(g)
     }
 
     /// U and F at horizontal position `xy` (km) and altitude `h_km`:
@@ -655,6 +684,50 @@ mod tests {
         }
         assert!(n > 50, "{n}");
         assert!(worst < 0.05, "{worst}");
+    }
+
+    /// A grid moved with the wind within a lattice step is the grid a
+    /// build gives there (the same cells, the same solve); a step further,
+    /// or any move of a patch, asks for a build.
+    #[test]
+    fn a_grid_follows_the_wind_within_a_cell() {
+        let mut f = field();
+        f.half_extent_km = f32::INFINITY;
+        let settings = GridSettings {
+            cell_km: 0.2,
+            max_half_width_km: 2.0,
+            ..GRID
+        };
+        let light = Vec3::new(0.5, 0.2, 0.6).normalize();
+        f.offset_km = Vec2::new(0.41, 0.83);
+        let a = DiffusionGrid::build(&f, &SHELL, light, &settings).unwrap();
+        f.offset_km = Vec2::new(0.47, 0.89);
+        let moved = a.follow(&f).unwrap();
+        let built = DiffusionGrid::build(&f, &SHELL, light, &settings).unwrap();
+        assert!(
+            (moved.origin - built.origin).length() < 1e-5,
+            "{:?} vs {:?}",
+            moved.origin,
+            built.origin
+        );
+        assert_eq!(moved.dims, built.dims);
+        // The same cells up to the float rounding of their sample points
+        // and the solve's parallel sums.
+        let worst = moved
+            .cells
+            .iter()
+            .zip(&built.cells)
+            .map(|(a, b)| (a[0] - b[0]).abs())
+            .fold(0.0f32, f32::max);
+        let peak = built.cells.iter().map(|c| c[0]).fold(0.0f32, f32::max);
+        assert!(peak > 0.1 && worst < 1e-3 * peak, "{worst} of {peak}");
+        f.offset_km = Vec2::new(0.61, 0.83);
+        assert!(a.follow(&f).is_none());
+        let mut patch = field();
+        let p = DiffusionGrid::build(&patch, &SHELL, light, &settings).unwrap();
+        assert_eq!(p.follow(&patch).as_ref(), Some(&p));
+        patch.offset_km += Vec2::new(0.01, 0.0);
+        assert!(p.follow(&patch).is_none());
     }
 
     #[test]

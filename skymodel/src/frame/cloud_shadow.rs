@@ -183,7 +183,7 @@ mod tests {
         s.effects = vec![Effect::Clouds];
         s.clouds.low.coverage = coverage;
         let state = SkyState::at(&s).expect("state");
-        CloudFrame::prepare(&s, &state, None, None, None)
+        CloudFrame::prepare(&s, &state, None, None, None, &mut Default::default())
     }
 
     /// From the observer, the transmittance towards a direction is the

@@ -46,7 +46,7 @@ use crate::clouds::{
 };
 use crate::moon::lunar_reflectance_spectrum;
 use crate::scene::Scene;
-use crate::scene::{CloudScattering, LowCloudTier};
+use crate::scene::{CloudScattering, LowCloudSpec, LowCloudTier};
 use crate::spectrum::{BandWeights, Spectrum};
 use crate::state::SkyState;
 
@@ -86,6 +86,61 @@ pub struct GroundLight {
     /// albedo/π × E_direct × sin h, linear sRGB, cd/m²
     /// ([`crate::atmosphere::SkyView::ground_direct`]).
     pub rgb: [f32; 3],
+}
+
+/// The Sun's or Moon's step, degrees, below which a frame keeps the last
+/// frame's diffusion grids ([`GridStore`]).
+pub const GRID_REUSE_DEG: f32 = 0.05;
+
+/// The volumetric tier's diffusion grids of the last frame, kept by the
+/// renderer ([`crate::frame::LutStore`]): a frame with the same low layer
+/// (all but its time), the same shell and its lights within
+/// [`GRID_REUSE_DEG`] of theirs moves them with the wind
+/// ([`DiffusionGrid::follow`]) instead of solving them anew — over an
+/// unbounded layer until the wind carries the field a cell further, over a
+/// patch while the field stands still. Building a grid costs hundreds of
+/// milliseconds on the CPU; following it, a copy.
+#[derive(Debug, Clone, Default)]
+pub struct GridStore {
+    last: Option<(LowCloudSpec, Shell, Arc<Vec<DiffusionGrid>>)>,
+}
+
+impl GridStore {
+    /// The kept grids moved to `field`, when they answer for this layer,
+    /// shell and lights (one grid per light, in order).
+    fn get(
+        &mut self,
+        spec: &LowCloudSpec,
+        shell: &Shell,
+        dirs: &[Vec3],
+        field: &LowField,
+    ) -> Option<Arc<Vec<DiffusionGrid>>> {
+        let (s, sh, grids) = self.last.as_ref()?;
+        let near = |a: Vec3, b: Vec3| a.angle_between(b).to_degrees() < GRID_REUSE_DEG;
+        let same = s == spec
+            && sh == shell
+            && grids.len() == dirs.len()
+            && grids.iter().zip(dirs).all(|(g, &d)| near(g.light, d));
+        if !same {
+            return None;
+        }
+        let moved: Option<Vec<DiffusionGrid>> = grids.iter().map(|g| g.follow(field)).collect();
+        let moved = Arc::new(moved?);
+        self.last = Some((*spec, *shell, moved.clone()));
+        Some(moved)
+    }
+
+    /// Keeps `grids` (built for `spec` and `shell`) and returns them.
+    fn keep(
+        &mut self,
+        spec: LowCloudSpec,
+        shell: Shell,
+        grids: Vec<DiffusionGrid>,
+    ) -> Arc<Vec<DiffusionGrid>> {
+        let grids = Arc::new(grids);
+        self.last = Some((spec, shell, grids.clone()));
+        grids
+    }
 }
 
 /// Everything the clouds pass of one frame needs.
@@ -141,6 +196,7 @@ impl CloudFrame {
         luts: Option<Arc<AtmosphereLuts>>,
         sky_inputs: Option<SkyInputs>,
         sky_horizontal_rgb: Option<[f64; 3]>,
+        grids: &mut GridStore,
     ) -> CloudFrame {
         let seconds = (state.jd_tt - J2000_TT) * 86_400.0;
         let c = &scene.clouds;
@@ -203,16 +259,20 @@ impl CloudFrame {
         let clock = std::time::Instant::now();
         // A grid that cannot be built (a layer too thick for
         // `diffusion_grid::MAX_CELLS`) leaves the column model alone.
-        let diffusion_grids: Vec<DiffusionGrid> = match low {
+        let diffusion_grids: Arc<Vec<DiffusionGrid>> = match low {
             Some(f)
                 if c.low.tier == LowCloudTier::Volumetric
                     && c.low.scattering == CloudScattering::Diffusion =>
             {
-                dirs.iter()
-                    .filter_map(|&d| DiffusionGrid::build(&f, &shell, d, &GRID).ok())
-                    .collect()
+                grids.get(&c.low, &shell, &dirs, &f).unwrap_or_else(|| {
+                    let built: Vec<DiffusionGrid> = dirs
+                        .iter()
+                        .filter_map(|&d| DiffusionGrid::build(&f, &shell, d, &GRID).ok())
+                        .collect();
+                    grids.keep(c.low, shell, built)
+                })
             }
-            _ => Vec::new(),
+            _ => Arc::new(Vec::new()),
         };
         let diffusion_grid_ms = if diffusion_grids.is_empty() {
             0.0
@@ -227,7 +287,7 @@ impl CloudFrame {
             march_stride: c.low.march_stride,
             height_field,
             height_field_ms,
-            diffusion_grids: Arc::new(diffusion_grids),
+            diffusion_grids,
             diffusion_grid_ms,
             ambient_rgb,
             ground_direct,
@@ -393,7 +453,7 @@ mod tests {
         s.effects = vec![Effect::Clouds];
         s.clouds.low.coverage = coverage;
         let state = SkyState::at(&s).expect("state");
-        CloudFrame::prepare(&s, &state, None, None, None)
+        CloudFrame::prepare(&s, &state, None, None, None, &mut GridStore::default())
     }
 
     /// What lies behind a cloud (stars, the Milky Way, the Moon) is dimmed
@@ -418,6 +478,38 @@ mod tests {
             }
         }
         assert!(checked > 5, "{checked}");
+    }
+
+    /// A renderer's next frame one second later keeps the diffusion grids,
+    /// moved with the wind (the same cells, the corner 10 m east); ten
+    /// minutes later the Sun has moved ~2°, and they are solved anew.
+    #[test]
+    fn the_grids_are_kept_while_the_sun_stands_still() {
+        let mut store = GridStore::default();
+        let mut s = Scene {
+            effects: vec![Effect::Clouds],
+            ..Scene::default()
+        };
+        s.clouds.low.coverage = 0.6;
+        s.clouds.low.wind_m_s = [10.0, 0.0];
+        let mut at = |t: &str| {
+            s.time.utc = t.into();
+            let state = SkyState::at(&s).expect("state");
+            CloudFrame::prepare(&s, &state, None, None, None, &mut store).diffusion_grids
+        };
+        let a = at("2024-06-21T11:00:00Z");
+        let b = at("2024-06-21T11:00:01Z");
+        let c = at("2024-06-21T11:10:00Z");
+        assert_eq!((a.len(), b.len(), c.len()), (1, 1, 1));
+        assert_eq!(a[0].cells, b[0].cells);
+        let moved = b[0].origin - a[0].origin;
+        let expect = (b[0].offset_km - a[0].offset_km).x;
+        assert!(
+            (moved.x - expect).abs() < 1e-4 && expect > 0.009,
+            "{moved:?} vs {expect}"
+        );
+        assert!(a[0].light.angle_between(c[0].light).to_degrees() > 1.0);
+        assert_ne!(a[0].cells, c[0].cells);
     }
 
     /// The Sun lights the clouds while it is up: a sunlit cloud is bright,

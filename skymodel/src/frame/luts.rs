@@ -116,6 +116,9 @@ pub struct LutStore {
     /// The sky textures of the last frames and their decoder
     /// (`crate::texture_sky::TextureStore`).
     pub textures: crate::texture_sky::TextureStore,
+    /// The low clouds' diffusion grids of the last frame
+    /// (`super::clouds::GridStore`).
+    pub cloud_grids: super::clouds::GridStore,
 }
 
 impl std::fmt::Debug for LutStore {

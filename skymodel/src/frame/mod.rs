@@ -51,7 +51,7 @@ use glam::DVec3;
 
 pub use cloud_grid::LowCloudGrid;
 pub use cloud_shadow::CloudShadowMap;
-pub use clouds::{CloudFrame, GroundLight, SeenHit};
+pub use clouds::{CloudFrame, GridStore, GroundLight, SeenHit};
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
 pub use luts::{LutOrigin, LutProgress, LutStore};
 pub use moon::MoonFrame;
@@ -204,7 +204,14 @@ impl FramePlan {
         if plan.runs(Effect::Clouds) {
             let sky_lux = plan.sky_light(views)?.map(lights::sky_horizontal_rgb);
             let (luts, inputs) = (plan.luts.clone(), plan.sky_inputs);
-            plan.clouds = Some(CloudFrame::prepare(scene, state, luts, inputs, sky_lux));
+            plan.clouds = Some(CloudFrame::prepare(
+                scene,
+                state,
+                luts,
+                inputs,
+                sky_lux,
+                &mut store.cloud_grids,
+            ));
         }
         Ok(plan)
     }
