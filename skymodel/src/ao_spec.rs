@@ -66,6 +66,15 @@ pub struct AoSettings {
     /// Absent (the default): a fifth of the world's bounding-box diagonal,
     /// within [0.5, 20] m ([`AoSettings::bounce_radius_for`]).
     pub bounce_radius_m: Option<f64>,
+    /// S3HO (`gtao` only): the pass also projects each pixel's
+    /// cosine-weighted visibility, V(ω) max(0, n·ω), onto spherical
+    /// harmonics (l ≤ 2, world frame), and the lighting pass scales the
+    /// sky's diffuse light by Σ L_lm T_lm / Σ L_lm T_lm,open with the sky's
+    /// own radiance coefficients L_lm — the sky is shadowed directionally
+    /// (a blocker in front of the bright side takes more of the light),
+    /// where scalar AO takes the same fraction of every side. Default
+    /// false.
+    pub sh: bool,
 }
 
 impl Default for AoSettings {
@@ -81,6 +90,7 @@ impl Default for AoSettings {
             bounce_samples: 16,
             bounce_steps: 12,
             bounce_radius_m: None,
+            sh: false,
         }
     }
 }
@@ -118,6 +128,12 @@ impl AoSettings {
             ("lighting.ao.bounce_steps", self.bounce_steps, 1, 64),
         ] {
             check_range(f, v as f64, lo as f64, hi as f64)?;
+        }
+        if self.sh && self.method != AoMethod::Gtao {
+            return Err(SceneError::new(
+                "lighting.ao.sh",
+                "S3HO integrates gtao's horizons: it needs method gtao",
+            ));
         }
         Ok(())
     }
@@ -194,6 +210,13 @@ mod tests {
             serde_json::from_str(r#"{"bounce": true, "bounce_radius_m": 3}"#).unwrap();
         assert_eq!((b.bounce, b.bounce_radius_m), (true, Some(3.0)));
         assert!(serde_json::from_str::<AoSettings>(r#"{"method": "hbao"}"#).is_err());
+        let c: AoSettings = serde_json::from_str(r#"{"sh": true}"#).unwrap();
+        assert!(c.sh && c.validate().is_ok());
+        let d = AoSettings {
+            method: AoMethod::Ssao,
+            ..c
+        };
+        assert_eq!(d.validate().unwrap_err().field, "lighting.ao.sh");
         assert!(serde_json::from_str::<AoSettings>(r#"{"radius": 1}"#).is_err());
     }
 }
