@@ -30,6 +30,10 @@
 //   irradiance E × min(1, AO / (Y(E) / Y(E_open))), E_open the cells'
 //   irradiance with nothing in the way — the smaller of the visibility
 //   maps' visibility and AO (passes/lighting/ao.rs); never the Sun or Moon.
+//   With `lighting.sky.occlusion` `ao` the cells are open (no maps) and
+//   E = E_open × AO; with S3HO (`lighting.ao.sh`) AO is, per channel,
+//   Σ L_lm T_lm / Σ L_lm A_l Y_lm(n): the sky's radiance coefficients
+//   weighted by the pixel's cosine-weighted visibility (`s3ho`).
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -82,6 +86,9 @@ struct CellPart {
 // The ao pass's bent normal (xyz) and AO (w); a 1 × 1 stand-in when it
 // did not run.
 @group(1) @binding(5) var ao_in: texture_2d<f32>;
+// Its S3HO image: T_1,-1 … T_2,2 as f16 pairs (ao.wgsl); a 1 × 1 stand-in
+// without it.
+@group(1) @binding(9) var sh_in: texture_2d<u32>;
 // For the ssr pass (ssr.wgsl), when it runs (else 1 × 1 stand-ins, not
 // written): the sky's prefiltered specular term as it reaches the camera
 // (rgb, cd/m²) and its split-sum weight (F0·A + B) × the transmittances
@@ -147,6 +154,10 @@ fn cell_whole(c: SkyCell, n: vec3<f32>) -> vec3<f32> {
 // against the receiver's plane.
 fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     let c = cells[k];
+    if u.occlusion.x == 1u {
+        // No visibility maps: the ao pass occludes.
+        return vec4<f32>(cell_whole(c, n), 1.0);
+    }
     let m = cell_view[k];
     let texel = c.dir.w;
     let q = p + n * (1.5 * texel);
@@ -452,6 +463,27 @@ fn open_irradiance(n: vec3<f32>, g: vec2<u32>) -> vec3<f32> {
     return e;
 }
 
+// S3HO: the fraction of the open sky's irradiance on normal n that the
+// pixel's cosine-weighted visibility lets through, per channel:
+// Σ L_lm T_lm / Σ L_lm A_l Y_lm(n), T_00 = Y_00 π AO (ao.wgsl).
+fn s3ho(px: vec2<i32>, n: vec3<f32>, ao: f32) -> vec3<f32> {
+    let packed = textureLoad(sh_in, px, 0);
+    let b = array<f32, 9>(0.282095, 0.488603 * n.y, 0.488603 * n.z, 0.488603 * n.x,
+        1.092548 * n.x * n.y, 1.092548 * n.y * n.z, 0.315392 * (3.0 * n.z * n.z - 1.0),
+        1.092548 * n.x * n.z, 0.546274 * (n.x * n.x - n.y * n.y));
+    var seen = u.sky_sh[0].rgb * (0.282095 * PI * ao);
+    var open = u.sky_sh[0].rgb * (PI * b[0]);
+    for (var i = 0u; i < 4u; i++) {
+        let t = unpack2x16float(packed[i]);
+        let k = 1u + 2u * i;
+        seen += u.sky_sh[k].rgb * t.x + u.sky_sh[k + 1u].rgb * t.y;
+    }
+    for (var k = 1u; k < 9u; k++) {
+        open += u.sky_sh[k].rgb * (select(PI / 4.0, 2.0 * PI / 3.0, k < 4u) * b[k]);
+    }
+    return clamp(seen / max(open, vec3<f32>(1e-20)), vec3<f32>(0.0), vec3<f32>(1.0));
+}
+
 // The sky pass: this pixel's set of cells (its place in the N × N block),
 // each cell's first moment seen through its visibility map.
 @compute @workgroup_size(8, 8)
@@ -600,11 +632,21 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
         var e = acc.rgb / max(wsum, 1.0);
         open = acc.a / max(wsum, 1.0);
         if all(textureDimensions(ao_in) == vec2<u32>(w, h)) {
-            // The maps' own cosine-weighted visibility (luminance): AO
-            // darkens only where it finds less.
+            let ao = textureLoad(ao_in, px, 0).w;
+            var occ = vec3<f32>(ao);
+            if u.occlusion.y == 1u {
+                occ = s3ho(px, s.n, ao);
+            }
             let y = vec3<f32>(0.2126, 0.7152, 0.0722);
-            let seen = dot(e, y) / max(dot(open_irradiance(s.n, gid.xy), y), 1e-20);
-            e *= min(1.0, textureLoad(ao_in, px, 0).w / max(seen, 1e-3));
+            if u.occlusion.x == 1u {
+                // The cells are open: the ao pass alone occludes.
+                e *= occ;
+            } else {
+                // The maps' own cosine-weighted visibility (luminance): AO
+                // darkens only where it finds less.
+                let seen = dot(e, y) / max(dot(open_irradiance(s.n, gid.xy), y), 1e-20);
+                e *= min(1.0, dot(occ * e, y) / max(dot(e, y), 1e-20) / max(seen, 1e-3));
+            }
         }
         let spec_vis = acc_s / max(wsum, 1.0);
         let r = reflect(ray, s.n);
