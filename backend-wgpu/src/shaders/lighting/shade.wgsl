@@ -463,25 +463,22 @@ fn open_irradiance(n: vec3<f32>, g: vec2<u32>) -> vec3<f32> {
     return e;
 }
 
-// S3HO: the fraction of the open sky's irradiance on normal n that the
-// pixel's cosine-weighted visibility lets through, per channel:
-// Σ L_lm T_lm / Σ L_lm A_l Y_lm(n), T_00 = Y_00 π AO (ao.wgsl).
-fn s3ho(px: vec2<i32>, n: vec3<f32>, ao: f32) -> vec3<f32> {
+// S3HO: the sky's irradiance on normal n that the pixel's cosine-weighted
+// visibility blocks, per channel: Σ L_lm (A_l Y_lm(n) − T_lm), the open
+// lobe's coefficients less the pixel's, T_00 = Y_00 π AO (ao.wgsl).
+fn s3ho_blocked(px: vec2<i32>, n: vec3<f32>, ao: f32) -> vec3<f32> {
     let packed = textureLoad(sh_in, px, 0);
     let b = array<f32, 9>(0.282095, 0.488603 * n.y, 0.488603 * n.z, 0.488603 * n.x,
         1.092548 * n.x * n.y, 1.092548 * n.y * n.z, 0.315392 * (3.0 * n.z * n.z - 1.0),
         1.092548 * n.x * n.z, 0.546274 * (n.x * n.x - n.y * n.y));
-    var seen = u.sky_sh[0].rgb * (0.282095 * PI * ao);
-    var open = u.sky_sh[0].rgb * (PI * b[0]);
+    var blocked = u.sky_sh[0].rgb * (0.282095 * PI * (1.0 - ao));
     for (var i = 0u; i < 4u; i++) {
         let t = unpack2x16float(packed[i]);
         let k = 1u + 2u * i;
-        seen += u.sky_sh[k].rgb * t.x + u.sky_sh[k + 1u].rgb * t.y;
+        let a = select(PI / 4.0, 2.0 * PI / 3.0, k < 4u);
+        blocked += u.sky_sh[k].rgb * (a * b[k] - t.x) + u.sky_sh[k + 1u].rgb * (PI / 4.0 * b[k + 1u] - t.y);
     }
-    for (var k = 1u; k < 9u; k++) {
-        open += u.sky_sh[k].rgb * (select(PI / 4.0, 2.0 * PI / 3.0, k < 4u) * b[k]);
-    }
-    return clamp(seen / max(open, vec3<f32>(1e-20)), vec3<f32>(0.0), vec3<f32>(1.0));
+    return blocked;
 }
 
 // The sky pass: this pixel's set of cells (its place in the N × N block),
@@ -635,7 +632,10 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
             let ao = textureLoad(ao_in, px, 0).w;
             var occ = vec3<f32>(ao);
             if u.occlusion.y == 1u {
-                occ = s3ho(px, s.n, ao);
+                // What S3HO finds blocked, taken from the open sky's light.
+                let open_e = select(open_irradiance(s.n, gid.xy), e, u.occlusion.x == 1u);
+                let left = max(open_e - s3ho_blocked(px, s.n, ao), vec3<f32>(0.0));
+                occ = left / max(open_e, vec3<f32>(1e-20));
             }
             let y = vec3<f32>(0.2126, 0.7152, 0.0722);
             if u.occlusion.x == 1u {
