@@ -94,8 +94,7 @@ const SH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 fn sh_image(gpu: &Gpu, size: (u32, u32)) -> wgpu::TextureView {
     let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
     let d = wgpu::TextureDimension::D2;
-    texture(gpu, "ao sh", (size.0, size.1, 1), d, SH_FORMAT, usage)
-        .create_view(&Default::default())
+    texture(gpu, "ao sh", (size.0, size.1, 1), d, SH_FORMAT, usage).create_view(&Default::default())
 }
 
 fn image(gpu: &Gpu, (w, h): (u32, u32), copy: bool) -> wgpu::Texture {

@@ -333,7 +333,22 @@ impl LightingPasses {
         };
         let s = &inputs.scene.lighting.ao;
         let radius = s.radius_for(bounds.extent() as f64) as f32;
-        self.ao.run(gpu, gb, cam, s, radius).map(Some)
+        // S3HO only without the visibility maps: with them its SH estimate
+        // would replace their exact directional shadow wherever it finds
+        // less light (README, S3HO).
+        let maps = inputs.scene.lighting.sky.occlusion == himmel_skymodel::SkyOcclusion::Maps;
+        let settings = himmel_skymodel::AoSettings {
+            sh: s.sh && !maps,
+            ..*s
+        };
+        let mut stat = self.ao.run(gpu, gb, cam, &settings, radius)?;
+        if s.sh && maps {
+            let why = stat.reason.take().unwrap_or_default();
+            stat.reason = Some(format!(
+                "{why}; S3HO off: the visibility maps occlude the sky"
+            ));
+        }
+        Ok(Some(stat))
     }
 
     /// Step 3b: the clouds' shadows over the world (when a clouds pass

@@ -193,7 +193,10 @@ impl Pipelines {
                 entry(
                     9,
                     c,
-                    texture(wgpu::TextureSampleType::Uint, wgpu::TextureViewDimension::D2),
+                    texture(
+                        wgpu::TextureSampleType::Uint,
+                        wgpu::TextureViewDimension::D2,
+                    ),
                 ),
                 storage(6, wgpu::TextureFormat::Rgba32Float),
                 storage(7, wgpu::TextureFormat::Rgba32Float),

@@ -31,9 +31,10 @@
 //   irradiance with nothing in the way — the smaller of the visibility
 //   maps' visibility and AO (passes/lighting/ao.rs); never the Sun or Moon.
 //   With `lighting.sky.occlusion` `ao` the cells are open (no maps) and
-//   E = E_open × AO; with S3HO (`lighting.ao.sh`) AO is, per channel,
-//   Σ L_lm T_lm / Σ L_lm A_l Y_lm(n): the sky's radiance coefficients
-//   weighted by the pixel's cosine-weighted visibility (`s3ho`).
+//   E = E_open × AO, or with S3HO (`lighting.ao.sh`, only then) E_open
+//   less the light the pixel's blockers take, Σ L_lm (A_l Y_lm(n) − T_lm):
+//   the sky's radiance coefficients weighted by the blocked part of the
+//   pixel's cosine-weighted visibility (`s3ho_blocked`).
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -630,22 +631,20 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
         open = acc.a / max(wsum, 1.0);
         if all(textureDimensions(ao_in) == vec2<u32>(w, h)) {
             let ao = textureLoad(ao_in, px, 0).w;
-            var occ = vec3<f32>(ao);
-            if u.occlusion.y == 1u {
-                // What S3HO finds blocked, taken from the open sky's light.
-                let open_e = select(open_irradiance(s.n, gid.xy), e, u.occlusion.x == 1u);
-                let left = max(open_e - s3ho_blocked(px, s.n, ao), vec3<f32>(0.0));
-                occ = left / max(open_e, vec3<f32>(1e-20));
-            }
-            let y = vec3<f32>(0.2126, 0.7152, 0.0722);
             if u.occlusion.x == 1u {
-                // The cells are open: the ao pass alone occludes.
-                e *= occ;
+                // The cells are open: the ao pass alone occludes — AO, or
+                // with S3HO (only here) the light it finds blocked.
+                if u.occlusion.y == 1u {
+                    e = max(e - s3ho_blocked(px, s.n, ao), vec3<f32>(0.0));
+                } else {
+                    e *= ao;
+                }
             } else {
                 // The maps' own cosine-weighted visibility (luminance): AO
                 // darkens only where it finds less.
+                let y = vec3<f32>(0.2126, 0.7152, 0.0722);
                 let seen = dot(e, y) / max(dot(open_irradiance(s.n, gid.xy), y), 1e-20);
-                e *= min(1.0, dot(occ * e, y) / max(dot(e, y), 1e-20) / max(seen, 1e-3));
+                e *= min(1.0, ao / max(seen, 1e-3));
             }
         }
         let spec_vis = acc_s / max(wsum, 1.0);
