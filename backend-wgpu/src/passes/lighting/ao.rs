@@ -394,6 +394,14 @@ mod tests {
         assert_eq!(u.params[0], 1.5);
         let g = uniforms(&cam, &AoSettings::default(), 2.0);
         assert_eq!(g.q[0], 1);
+        // S3HO: flagged for gtao only.
+        assert_eq!(g.q2[2], 0);
+        let sh = AoSettings {
+            sh: true,
+            ..AoSettings::default()
+        };
+        assert_eq!(uniforms(&cam, &sh, 2.0).q2[2], 1);
+        assert_eq!(uniforms(&cam, &AoSettings { sh: true, ..s }, 2.0).q2[2], 0);
         assert_eq!(std::mem::size_of::<AoUniforms>(), 7 * 16);
     }
 }
