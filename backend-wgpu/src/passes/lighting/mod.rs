@@ -6,6 +6,8 @@
 //! 2. **sky visibility** ([`view::hemisphere_directions`]) — one
 //!    orthographic depth map of the world per direction of the sky's cells
 //!    ([`env`]); built once per world and kept while it does not change;
+//!    not built with `lighting.sky.occlusion` `ao` (the ao pass alone
+//!    occludes the sky: scalar AO, or with `lighting.ao.sh` S3HO);
 //! 3. **shadows** — the Sun's and the Moon's cascades ([`view::cascades`]),
 //!    rebuilt when the light or the camera moved;
 //! 4. **ambient occlusion** ([`ao`], `ao.wgsl`), when `ao` runs: AO and
