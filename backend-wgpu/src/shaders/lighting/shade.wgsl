@@ -633,9 +633,10 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
             let ao = textureLoad(ao_in, px, 0).w;
             if u.occlusion.x == 1u {
                 // The cells are open: the ao pass alone occludes — AO, or
-                // with S3HO (only here) the light it finds blocked.
+                // with S3HO (only here) the light it finds blocked (never
+                // less than none: the lobes' ringing must not add light).
                 if u.occlusion.y == 1u {
-                    e = max(e - s3ho_blocked(px, s.n, ao), vec3<f32>(0.0));
+                    e = clamp(e - s3ho_blocked(px, s.n, ao), vec3<f32>(0.0), e);
                 } else {
                     e *= ao;
                 }
