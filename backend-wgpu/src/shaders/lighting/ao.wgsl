@@ -35,17 +35,18 @@
 //   neighbours on the same surface (normal within 25°, on the centre's
 //   plane within 2 % of the distance).
 // * S3HO (`gtao` with `lighting.ao.sh`): the same slices also project the
-//   cosine-weighted visibility onto the real spherical harmonics of
-//   l ≤ 2 (world frame),
-//     T_lm = ∫_Ω V_R(ω) max(0, n·ω) Y_lm(ω) dω,
-//   each slice's open arc [h₀, h₁] by the midpoint rule (the bent
-//   normal's points), scaled like A: π Σ_slices / Σ |n_p| (cos γ + γ sin γ),
-//   so that an open plane gives the cosine lobe's own coefficients
-//   A_l Y_lm(n) (A_l = π, 2π/3, π/4). T_00 = Y_00 π A is A itself; the
-//   other eight go out as f16 pairs (rgba32uint), the lighting pass
-//   weights the sky's radiance coefficients L_lm with them.
+//   blocked part of the cosine-weighted visibility onto the real spherical
+//   harmonics of l ≤ 2 (world frame),
+//     B_lm = ∫_Ω (1 − V_R(ω)) max(0, n·ω) Y_lm(ω) dω
+//          = A_l Y_lm(n) − T_lm  (A_l = π, 2π/3, π/4; T the transfer),
+//   each slice's blocked arcs [γ − π/2, h₀] and [h₁, γ + π/2] by the
+//   midpoint rule (8 points each), scaled like A: π Σ_slices / Σ |n_p|
+//   (cos γ + γ sin γ) — an open pixel gives exactly 0, however few the
+//   slices. B_00 = Y_00 π (1 − A) follows from A; the other eight go out
+//   as f16 pairs (rgba32uint), and the lighting pass takes Σ L_lm B_lm,
+//   with the sky's radiance coefficients L_lm, from the open sky's light.
 // Output: rgba32float, xyz the bent normal (world frame), w = A; sky pixels
-// (0, 0, 0, 1); with S3HO, T_1m..T_2m packed.
+// (0, 0, 0, 1); with S3HO, B_1m..B_2m packed.
 
 struct Ao {
     // xyz: eye; w: tan(fov / 2).
@@ -71,11 +72,11 @@ struct Ao {
 @group(0) @binding(3) var g_material: texture_2d<u32>;
 @group(0) @binding(4) var ao_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(5) var ao_in: texture_2d<f32>;
-// S3HO: T_1,-1 … T_2,2 as f16 pairs (1 × 1 stand-ins without it).
+// S3HO: B_1,-1 … B_2,2 as f16 pairs (1 × 1 stand-ins without it).
 @group(0) @binding(6) var sh_out: texture_storage_2d<rgba32uint, write>;
 @group(0) @binding(7) var sh_in: texture_2d<u32>;
 
-// The slices' sum of T_1,-1 … T_2,2 (unnormalised), gtao's by-product.
+// The slices' sum of B_1,-1 … B_2,2 (unnormalised), gtao's by-product.
 var<private> sh_sum: array<f32, 8>;
 
 const PI: f32 = 3.14159265358979;
@@ -143,19 +144,10 @@ fn sh_on() -> bool {
     return a.q2.z == 1u;
 }
 
-// T_1,-1 … T_2,2 packed as f16 pairs.
+// B_1,-1 … B_2,2 packed as f16 pairs.
 fn pack_sh(t: array<f32, 8>) -> vec4<u32> {
     return vec4<u32>(pack2x16float(vec2<f32>(t[0], t[1])), pack2x16float(vec2<f32>(t[2], t[3])),
         pack2x16float(vec2<f32>(t[4], t[5])), pack2x16float(vec2<f32>(t[6], t[7])));
-}
-
-// The open plane's transfer: the cosine lobe A_l Y_lm(n).
-fn open_sh(n: vec3<f32>) -> array<f32, 8> {
-    var t = sh8(n);
-    for (var i = 0u; i < 8u; i++) {
-        t[i] *= select(PI / 4.0, 2.0 * PI / 3.0, i < 3u);
-    }
-    return t;
 }
 
 // The cosine-weighted integral of one side of a slice up to horizon h.
@@ -241,12 +233,24 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
         let dh = (h[1] - h[0]) / f32(BENT_POINTS);
         for (var i = 0u; i < BENT_POINTS; i++) {
             let th = h[0] + (f32(i) + 0.5) * dh;
-            let wt = cos(th - g) * abs(sin(th));
-            m += vec2<f32>(cos(th), sin(th)) * wt;
-            if sh_on() {
-                let y = sh8(v * cos(th) + ortho * sin(th));
-                for (var i = 0u; i < 8u; i++) {
-                    sh_sum[i] += y[i] * (wt * nlen * dh);
+            m += vec2<f32>(cos(th), sin(th)) * (cos(th - g) * abs(sin(th)));
+        }
+        if sh_on() {
+            // S3HO's share of the slice: its blocked arcs, [γ − π/2, h₀]
+            // and [h₁, γ + π/2] (each on one side of the view vector,
+            // where |sin θ| is smooth), so that an open slice adds nothing
+            // however few the slices.
+            for (var side = 0; side < 2; side++) {
+                let lo = select(g - HALF_PI, h[1], side == 1);
+                let hi = select(h[0], g + HALF_PI, side == 1);
+                let ds = (hi - lo) / f32(BENT_POINTS / 2u);
+                for (var i = 0u; i < BENT_POINTS / 2u; i++) {
+                    let th = lo + (f32(i) + 0.5) * ds;
+                    let y = sh8(v * cos(th) + ortho * sin(th));
+                    let wt = cos(th - g) * abs(sin(th)) * nlen * ds;
+                    for (var c = 0u; c < 8u; c++) {
+                        sh_sum[c] += y[c] * wt;
+                    }
                 }
             }
         }
@@ -258,8 +262,6 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
         for (var i = 0u; i < 8u; i++) {
             sh_sum[i] *= PI / norm;
         }
-    } else {
-        sh_sum = open_sh(n);
     }
     var b = n;
     if dot(bent, bent) > 1e-12 {
@@ -336,7 +338,7 @@ fn occlude(@builtin(global_invocation_id) gid: vec3<u32>) {
         // The radius is below a pixel: nothing the G-buffer resolves.
         textureStore(ao_out, px, vec4<f32>(n, 1.0));
         if sh_on() {
-            textureStore(sh_out, px, pack_sh(open_sh(n)));
+            textureStore(sh_out, px, vec4<u32>(0u));
         }
         return;
     }

@@ -32,9 +32,9 @@
 //   maps' visibility and AO (passes/lighting/ao.rs); never the Sun or Moon.
 //   With `lighting.sky.occlusion` `ao` the cells are open (no maps) and
 //   E = E_open × AO, or with S3HO (`lighting.ao.sh`, only then) E_open
-//   less the light the pixel's blockers take, Σ L_lm (A_l Y_lm(n) − T_lm):
-//   the sky's radiance coefficients weighted by the blocked part of the
-//   pixel's cosine-weighted visibility (`s3ho_blocked`).
+//   less the light the pixel's blockers take, Σ L_lm B_lm: the sky's
+//   radiance coefficients weighted by the blocked part of the pixel's
+//   cosine-weighted visibility (`s3ho_blocked`).
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -464,20 +464,15 @@ fn open_irradiance(n: vec3<f32>, g: vec2<u32>) -> vec3<f32> {
     return e;
 }
 
-// S3HO: the sky's irradiance on normal n that the pixel's cosine-weighted
-// visibility blocks, per channel: Σ L_lm (A_l Y_lm(n) − T_lm), the open
-// lobe's coefficients less the pixel's, T_00 = Y_00 π AO (ao.wgsl).
-fn s3ho_blocked(px: vec2<i32>, n: vec3<f32>, ao: f32) -> vec3<f32> {
+// S3HO: the sky's irradiance that the pixel's blockers take, per channel:
+// Σ L_lm B_lm, B the blocked part of the cosine-weighted visibility
+// (ao.wgsl), B_00 = Y_00 π (1 − AO).
+fn s3ho_blocked(px: vec2<i32>, ao: f32) -> vec3<f32> {
     let packed = textureLoad(sh_in, px, 0);
-    let b = array<f32, 9>(0.282095, 0.488603 * n.y, 0.488603 * n.z, 0.488603 * n.x,
-        1.092548 * n.x * n.y, 1.092548 * n.y * n.z, 0.315392 * (3.0 * n.z * n.z - 1.0),
-        1.092548 * n.x * n.z, 0.546274 * (n.x * n.x - n.y * n.y));
     var blocked = u.sky_sh[0].rgb * (0.282095 * PI * (1.0 - ao));
     for (var i = 0u; i < 4u; i++) {
-        let t = unpack2x16float(packed[i]);
-        let k = 1u + 2u * i;
-        let a = select(PI / 4.0, 2.0 * PI / 3.0, k < 4u);
-        blocked += u.sky_sh[k].rgb * (a * b[k] - t.x) + u.sky_sh[k + 1u].rgb * (PI / 4.0 * b[k + 1u] - t.y);
+        let b = unpack2x16float(packed[i]);
+        blocked += u.sky_sh[1u + 2u * i].rgb * b.x + u.sky_sh[2u + 2u * i].rgb * b.y;
     }
     return blocked;
 }
@@ -636,7 +631,7 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
                 // with S3HO (only here) the light it finds blocked (never
                 // less than none: the lobes' ringing must not add light).
                 if u.occlusion.y == 1u {
-                    e = clamp(e - s3ho_blocked(px, s.n, ao), vec3<f32>(0.0), e);
+                    e = clamp(e - s3ho_blocked(px, ao), vec3<f32>(0.0), e);
                 } else {
                     e *= ao;
                 }
