@@ -2,10 +2,10 @@
 //! G-buffer's distance and normal (`shaders/lighting/ao.wgsl`), then a
 //! depth-aware blur; the result (bent normal + AO, rgba32float) is what the
 //! lighting pass reads and [`Occlusion::read_back`] returns. With S3HO
-//! (`lighting.ao.sh`), a second image holds the projection of the
-//! cosine-weighted visibility onto the SH of l = 1, 2 (`ao.wgsl`), which the
-//! lighting pass weights with the sky's own radiance coefficients: the sky
-//! is shadowed directionally.
+//! (`lighting.ao.sh`), a second image holds the projection of the blocked
+//! part of the cosine-weighted visibility onto the SH of l = 1, 2
+//! (`ao.wgsl`), which the lighting pass weights with the sky's own
+//! radiance coefficients: the sky is shadowed directionally.
 //!
 //! **How AO meets the sky's visibility maps.** The sky light already comes
 //! through the world's visibility maps (one per sky cell,
@@ -88,7 +88,7 @@ pub struct Occlusion {
 }
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// S3HO's T_1,-1 … T_2,2 as f16 pairs.
+/// S3HO's B_1,-1 … B_2,2 as f16 pairs.
 const SH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 fn sh_image(gpu: &Gpu, size: (u32, u32)) -> wgpu::TextureView {
