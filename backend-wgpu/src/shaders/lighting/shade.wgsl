@@ -87,8 +87,8 @@ struct CellPart {
 // The ao pass's bent normal (xyz) and AO (w); a 1 × 1 stand-in when it
 // did not run.
 @group(1) @binding(5) var ao_in: texture_2d<f32>;
-// Its S3HO image: B_1,-1 … B_2,2 (the blocked transfer) as f16 pairs (ao.wgsl); a 1 × 1 stand-in
-// without it.
+// Its S3HO image: B_1,-1 … B_2,2 (the blocked transfer) as f16 pairs
+// (ao.wgsl); a 1 × 1 stand-in without it.
 @group(1) @binding(9) var sh_in: texture_2d<u32>;
 // For the ssr pass (ssr.wgsl), when it runs (else 1 × 1 stand-ins, not
 // written): the sky's prefiltered specular term as it reaches the camera
