@@ -76,6 +76,15 @@ pub struct AoSettings {
     /// Absent (the default): a fifth of the world's bounding-box diagonal,
     /// within [0.5, 20] m ([`AoSettings::bounce_radius_for`]).
     pub bounce_radius_m: Option<f64>,
+    /// S3HO (`gtao` only): the pass also projects the blocked part of each
+    /// pixel's cosine-weighted visibility, (1 − V(ω)) max(0, n·ω), onto
+    /// spherical harmonics (l ≤ 2, world frame), B_lm, and the lighting
+    /// pass takes Σ L_lm B_lm, with the sky's own radiance coefficients
+    /// L_lm, from the open sky's diffuse light — the sky is shadowed
+    /// directionally (a blocker in front of the bright side takes more of
+    /// the light), where scalar AO takes the same fraction of every side.
+    /// Used only with `lighting.sky.occlusion` `ao`. Default false.
+    pub sh: bool,
 }
 
 impl Default for AoSettings {
@@ -91,6 +100,7 @@ impl Default for AoSettings {
             bounce_samples: 16,
             bounce_steps: 12,
             bounce_radius_m: None,
+            sh: false,
         }
     }
 }
@@ -128,6 +138,12 @@ impl AoSettings {
             ("lighting.ao.bounce_steps", self.bounce_steps, 1, 64),
         ] {
             check_range(f, v as f64, lo as f64, hi as f64)?;
+        }
+        if self.sh && self.method != AoMethod::Gtao {
+            return Err(SceneError::new(
+                "lighting.ao.sh",
+                "S3HO integrates gtao's horizons: it needs method gtao",
+            ));
         }
         Ok(())
     }
@@ -206,6 +222,13 @@ mod tests {
         let h: AoSettings = serde_json::from_str(r#"{"method": "hbao"}"#).unwrap();
         assert_eq!(h.method, AoMethod::Hbao);
         assert!(serde_json::from_str::<AoSettings>(r#"{"method": "vxao"}"#).is_err());
+        let c: AoSettings = serde_json::from_str(r#"{"sh": true}"#).unwrap();
+        assert!(c.sh && c.validate().is_ok());
+        let d = AoSettings {
+            method: AoMethod::Ssao,
+            ..c
+        };
+        assert_eq!(d.validate().unwrap_err().field, "lighting.ao.sh");
         assert!(serde_json::from_str::<AoSettings>(r#"{"radius": 1}"#).is_err());
     }
 }

@@ -93,5 +93,6 @@ pub use state::{SkyState, SunState};
 pub use temporal_spec::TemporalSettings;
 pub use texture_spec::SkyTextureSpec;
 pub use world_spec::{
-    FogPhase, FogSpec, GodraysMethod, GodraysSettings, LightingSpec, ShadowFilter, WorldSpec,
+    FogPhase, FogSpec, GodraysMethod, GodraysSettings, LightingSpec, ShadowFilter, SkyOcclusion,
+    WorldSpec,
 };

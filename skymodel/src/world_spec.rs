@@ -177,6 +177,24 @@ impl Default for ShadowSettings {
     }
 }
 
+/// What occludes the sky's diffuse light (`lighting.sky.occlusion`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
+#[serde(rename_all = "lowercase")]
+pub enum SkyOcclusion {
+    /// The world's visibility maps, one per sky cell (the default): every
+    /// blocker the maps' texels resolve, on screen or not; the ao pass, when
+    /// it runs, only adds the contact detail the maps miss.
+    #[default]
+    Maps,
+    /// No visibility maps are built: the sky's diffuse light is the open
+    /// sky's irradiance times the ao pass's occlusion — its scalar AO, or
+    /// with `lighting.ao.sh` its directional (S3HO) occlusion of the sky's
+    /// own radiance. Screen space: blockers off screen or beyond
+    /// `lighting.ao.radius_m` do not shadow; without the ao pass nothing
+    /// does. The sky's specular light is not occluded.
+    Ao,
+}
+
 /// The sky as an environment light (`lighting.sky`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -212,6 +230,9 @@ pub struct SkyLightSettings {
     /// The environment light is rebuilt when the Sun or Moon moved more
     /// than this, degrees, in [0, 10] (default 0.05; 0 = every frame).
     pub reuse_tolerance_deg: f64,
+    /// What occludes the sky's diffuse light: `maps` (default) or `ao`
+    /// ([`SkyOcclusion`]).
+    pub occlusion: SkyOcclusion,
 }
 
 impl Default for SkyLightSettings {
@@ -223,6 +244,7 @@ impl Default for SkyLightSettings {
             visibility_resolution: 512,
             parts: 1,
             reuse_tolerance_deg: 0.05,
+            occlusion: SkyOcclusion::Maps,
         }
     }
 }
@@ -537,6 +559,17 @@ mod tests {
         let mut l = LightingSpec::default();
         l.godrays.samples = 2;
         assert_eq!(l.validate().unwrap_err().field, "lighting.godrays.samples");
+    }
+
+    #[test]
+    fn sky_occlusion_reads_maps_or_ao() {
+        assert_eq!(SkyLightSettings::default().occlusion, SkyOcclusion::Maps);
+        let k: SkyLightSettings = serde_json::from_str(r#"{"occlusion": "ao"}"#).unwrap();
+        assert_eq!(k.occlusion, SkyOcclusion::Ao);
+        assert!(serde_json::from_str::<SkyLightSettings>(r#"{"occlusion": "ssao"}"#).is_err());
+        let t = serde_json::to_value(LightingSpec::default()).unwrap();
+        assert_eq!(t["sky"]["occlusion"], "maps");
+        assert_eq!(t["ao"]["sh"], false);
     }
 
     /// ∫ p dΩ over the sphere by the midpoint rule in cos θ (1e5 bands).

@@ -1,7 +1,11 @@
 //! Ambient occlusion (`lighting.ao`, issue 16): `ssao` or `gtao` from the
 //! G-buffer's distance and normal (`shaders/lighting/ao.wgsl`), then a
 //! depth-aware blur; the result (bent normal + AO, rgba32float) is what the
-//! lighting pass reads and [`Occlusion::read_back`] returns.
+//! lighting pass reads and [`Occlusion::read_back`] returns. With S3HO
+//! (`lighting.ao.sh`), a second image holds the projection of the blocked
+//! part of the cosine-weighted visibility onto the SH of l = 1, 2
+//! (`ao.wgsl`), which the lighting pass weights with the sky's own
+//! radiance coefficients: the sky is shadowed directionally.
 //!
 //! **How AO meets the sky's visibility maps.** The sky light already comes
 //! through the world's visibility maps (one per sky cell,
@@ -19,7 +23,9 @@
 //! never the Sun's or the Moon's light. (The maps' ratio is weighted by the
 //! sky's radiance, AO by a uniform sky: where a blocker hides the bright
 //! side of the sky the maps' ratio is the lower and AO changes nothing,
-//! which is right, as the maps see it directionally.)
+//! which is right, as the maps see it directionally.) With
+//! `lighting.sky.occlusion` `ao` no maps are built and the open sky's
+//! irradiance is simply scaled by AO, or with S3HO by the SH occlusion.
 
 use himmel_skymodel::renderer::PassStat;
 use himmel_skymodel::{AoMethod, AoSettings, RenderError};
@@ -61,9 +67,13 @@ struct AoPipes {
 
 struct Images {
     size: (u32, u32),
+    /// Whether the S3HO images are full size (else 1 × 1, not written).
+    sh: bool,
     raw: wgpu::TextureView,
     out: wgpu::Texture,
     out_view: wgpu::TextureView,
+    sh_raw: wgpu::TextureView,
+    sh_out: wgpu::TextureView,
 }
 
 /// The AO pass and its images, kept between frames.
@@ -72,10 +82,20 @@ pub struct Occlusion {
     pipes: Option<AoPipes>,
     images: Option<Images>,
     stand_in: Option<wgpu::TextureView>,
+    sh_stand_in: Option<wgpu::TextureView>,
     radius_m: f32,
+    sh: bool,
 }
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// S3HO's B_1,-1 … B_2,2 as f16 pairs.
+const SH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
+
+fn sh_image(gpu: &Gpu, size: (u32, u32)) -> wgpu::TextureView {
+    let usage = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
+    let d = wgpu::TextureDimension::D2;
+    texture(gpu, "ao sh", (size.0, size.1, 1), d, SH_FORMAT, usage).create_view(&Default::default())
+}
 
 fn image(gpu: &Gpu, (w, h): (u32, u32), copy: bool) -> wgpu::Texture {
     let mut usage = wgpu::TextureUsages::STORAGE_BINDING
@@ -133,6 +153,15 @@ fn pipes(gpu: &Gpu) -> AoPipes {
                     },
                 ),
                 entry(5, tex(unfiltered)),
+                entry(
+                    6,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: SH_FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                ),
+                entry(7, tex(wgpu::TextureSampleType::Uint)),
             ],
         });
     let module = gpu.shader(
@@ -165,7 +194,12 @@ fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
             s.steps.max(1),
             s.samples.max(1),
         ],
-        q2: [s.blur_px, cam.frame, 0, 0],
+        q2: [
+            s.blur_px,
+            cam.frame,
+            (s.sh && s.method == AoMethod::Gtao) as u32,
+            0,
+        ],
     }
 }
 
@@ -184,13 +218,18 @@ impl Occlusion {
         let pipes = self.pipes.get_or_insert_with(|| pipes(gpu));
         let t = std::time::Instant::now();
         let size = (cam.width, cam.height);
-        if self.images.as_ref().map(|i| i.size) != Some(size) {
+        let sh = settings.sh && settings.method == AoMethod::Gtao;
+        if self.images.as_ref().map(|i| (i.size, i.sh)) != Some((size, sh)) {
             let out = image(gpu, size, true);
+            let sh_size = if sh { size } else { (1, 1) };
             self.images = Some(Images {
                 size,
+                sh,
                 raw: image(gpu, size, false).create_view(&Default::default()),
                 out_view: out.create_view(&Default::default()),
                 out,
+                sh_raw: sh_image(gpu, sh_size),
+                sh_out: sh_image(gpu, sh_size),
             });
         }
         let Some(img) = self.images.as_ref() else {
@@ -206,7 +245,7 @@ impl Occlusion {
             },
         );
         let tv = wgpu::BindingResource::TextureView;
-        let group = |out, input| {
+        let group = |(out, sh_out), (input, sh_in)| {
             bind_group(
                 &gpu.device,
                 "ao",
@@ -218,11 +257,13 @@ impl Occlusion {
                     tv(&gb.views[3]),
                     tv(out),
                     tv(input),
+                    tv(sh_out),
+                    tv(sh_in),
                 ],
             )
         };
-        let first = group(&img.raw, &img.out_view);
-        let second = group(&img.out_view, &img.raw);
+        let first = group((&img.raw, &img.sh_raw), (&img.out_view, &img.sh_out));
+        let second = group((&img.out_view, &img.sh_out), (&img.raw, &img.sh_raw));
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let groups = (size.0.div_ceil(8), size.1.div_ceil(8));
         for (pipe, g) in [(&pipes.occlude, &first), (&pipes.blur, &second)] {
@@ -234,8 +275,10 @@ impl Occlusion {
         gpu.queue.submit([enc.finish()]);
         gpu.wait()?;
         self.radius_m = radius_m;
+        self.sh = sh;
         let method = match settings.method {
             AoMethod::Ssao => "ssao",
+            AoMethod::Gtao if sh => "gtao + S3HO",
             AoMethod::Gtao => "gtao",
             AoMethod::Hbao => "hbao",
         };
@@ -247,16 +290,18 @@ impl Occlusion {
         })
     }
 
-    /// The AO image of the last run, or (`on` false) a 1 × 1 stand-in that
-    /// the lighting pass binds and recognises by its size (it holds AO 1,
+    /// Whether the lighting pass gets the S3HO image (the pass runs, `on`,
+    /// and its last run made one).
+    pub fn s3ho(&self, on: bool) -> bool {
+        on && self.sh && self.images.is_some()
+    }
+
+    /// The AO image and the S3HO image of the last run, or (`on` false, or
+    /// no S3HO) 1 × 1 stand-ins that the lighting pass binds and recognises
+    /// by their size or [`Occlusion::s3ho`] (the AO stand-in holds AO 1,
     /// which changes nothing, should a 1 × 1 frame read it).
-    pub fn view(&mut self, gpu: &Gpu, on: bool) -> &wgpu::TextureView {
-        if on {
-            if let Some(i) = self.images.as_ref() {
-                return &i.out_view;
-            }
-        }
-        self.stand_in.get_or_insert_with(|| {
+    pub fn views(&mut self, gpu: &Gpu, on: bool) -> [&wgpu::TextureView; 2] {
+        let stand_in = self.stand_in.get_or_insert_with(|| {
             let t = image(gpu, (1, 1), false);
             let one: [f32; 4] = [0.0, 0.0, 0.0, 1.0];
             gpu.queue.write_texture(
@@ -274,7 +319,15 @@ impl Occlusion {
                 },
             );
             t.create_view(&Default::default())
-        })
+        });
+        let sh_stand_in = self
+            .sh_stand_in
+            .get_or_insert_with(|| sh_image(gpu, (1, 1)));
+        match self.images.as_ref().filter(|_| on) {
+            Some(i) if self.sh => [&i.out_view, &i.sh_out],
+            Some(i) => [&i.out_view, sh_stand_in],
+            None => [stand_in, sh_stand_in],
+        }
     }
 
     /// The AO image of the last run (`None` before the first).
@@ -349,6 +402,14 @@ mod tests {
         assert_eq!(u.params[0], 1.5);
         let g = uniforms(&cam, &AoSettings::default(), 2.0);
         assert_eq!(g.q[0], 1);
+        // S3HO: flagged for gtao only.
+        assert_eq!(g.q2[2], 0);
+        let sh = AoSettings {
+            sh: true,
+            ..AoSettings::default()
+        };
+        assert_eq!(uniforms(&cam, &sh, 2.0).q2[2], 1);
+        assert_eq!(uniforms(&cam, &AoSettings { sh: true, ..s }, 2.0).q2[2], 0);
         assert_eq!(std::mem::size_of::<AoUniforms>(), 7 * 16);
     }
 }

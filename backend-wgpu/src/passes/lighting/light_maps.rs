@@ -7,7 +7,7 @@ use std::time::Instant as Clock;
 use glam::Vec3;
 use himmel_skymodel::frame::DirectLight;
 use himmel_skymodel::renderer::PassStat;
-use himmel_skymodel::RenderError;
+use himmel_skymodel::{RenderError, SkyOcclusion};
 
 use super::view::{self, LightView, WorldCamera};
 use super::{ms, stat, LightingPasses, WorldInputs};
@@ -35,6 +35,10 @@ impl LightingPasses {
             return Err(RenderError::WorldMissing);
         };
         let t = Clock::now();
+        if inputs.scene.lighting.sky.occlusion == SkyOcclusion::Ao {
+            let why = "lighting.sky.occlusion is ao: the ao pass occludes the sky light";
+            return Ok(stat("world/sky-visibility", false, None, Some(why.into())));
+        }
         let (env, bounds) = match (inputs.env, world.bounds) {
             (Some(e), Some(b)) => (e, b),
             (None, _) => {

@@ -6,6 +6,8 @@
 //! 2. **sky visibility** ([`view::hemisphere_directions`]) — one
 //!    orthographic depth map of the world per direction of the sky's cells
 //!    ([`env`]); built once per world and kept while it does not change;
+//!    not built with `lighting.sky.occlusion` `ao` (the ao pass alone
+//!    occludes the sky: scalar AO, or with `lighting.ao.sh` S3HO);
 //! 3. **shadows** — the Sun's and the Moon's cascades ([`view::cascades`]),
 //!    rebuilt when the light or the camera moved;
 //! 4. **ambient occlusion** ([`ao`], `ao.wgsl`), when `ao` runs: AO and
@@ -85,6 +87,8 @@ pub struct ShadeUniforms {
     shaft_q: [u32; 4],
     clouds: [f32; 4],
     jitter: [f32; 4],
+    sky_sh: [[f32; 4]; 9],
+    occlusion: [u32; 4],
 }
 
 /// The G-buffer camera (`GCamera` in gbuffer.wgsl).
@@ -331,7 +335,22 @@ impl LightingPasses {
         };
         let s = &inputs.scene.lighting.ao;
         let radius = s.radius_for(bounds.extent() as f64) as f32;
-        self.ao.run(gpu, gb, cam, s, radius).map(Some)
+        // S3HO only without the visibility maps: with them its SH estimate
+        // would replace their exact directional shadow wherever it finds
+        // less light (README, S3HO).
+        let maps = inputs.scene.lighting.sky.occlusion == himmel_skymodel::SkyOcclusion::Maps;
+        let settings = himmel_skymodel::AoSettings {
+            sh: s.sh && !maps,
+            ..*s
+        };
+        let mut stat = self.ao.run(gpu, gb, cam, &settings, radius)?;
+        if s.sh && maps {
+            let why = stat.reason.take().unwrap_or_default();
+            stat.reason = Some(format!(
+                "{why}; S3HO off: the visibility maps occlude the sky"
+            ));
+        }
+        Ok(Some(stat))
     }
 
     /// Step 3b: the clouds' shadows over the world (when a clouds pass
@@ -381,7 +400,7 @@ impl LightingPasses {
             tables.upload_env(gpu, env, texel, specular);
         }
         let air_scale = inputs.air.map(|a| tables.upload_air(gpu, a));
-        let u = shade_uniforms(
+        let mut u = shade_uniforms(
             inputs,
             cam,
             air_scale,
@@ -390,6 +409,8 @@ impl LightingPasses {
             self.sun_layers,
             self.clouds.uniform(),
         );
+        let ao_on = inputs.ao && world.bounds.is_some();
+        u.occlusion[1] = self.ao.s3ho(ao_on) as u32;
         let ubuf = tables.uniforms(gpu, bytemuck::bytes_of(&u));
         let missing = || RenderError::Device("light maps missing".into());
         let shafts_stat = if inputs.godrays {
@@ -420,7 +441,7 @@ impl LightingPasses {
         };
         let shafts_view = self.shafts.view(gpu, inputs.godrays);
         let cloud_map = self.clouds.view(gpu);
-        let ao_view = self.ao.view(gpu, inputs.ao && world.bounds.is_some());
+        let [ao_view, sh_view] = self.ao.views(gpu, ao_on);
         let [spec_env, spec_w] = self.ssr.outputs(gpu);
         let out = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2),
@@ -465,7 +486,7 @@ impl LightingPasses {
             gpu,
             pipes,
             gb,
-            [shafts_view, cloud_map, ao_view, spec_env, spec_w],
+            [shafts_view, cloud_map, ao_view, spec_env, spec_w, sh_view],
         );
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let groups = (cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
@@ -500,7 +521,7 @@ fn sky_in_group(
     gpu: &Gpu,
     pipes: &Pipelines,
     gb: &GBuffer,
-    [shafts_view, cloud_map, ao_view, spec_env, spec_w]: [&wgpu::TextureView; 5],
+    [shafts_view, cloud_map, ao_view, spec_env, spec_w, sh_view]: [&wgpu::TextureView; 6],
 ) -> wgpu::BindGroup {
     let tv = wgpu::BindingResource::TextureView;
     gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -534,6 +555,10 @@ fn sky_in_group(
             wgpu::BindGroupEntry {
                 binding: 7,
                 resource: tv(spec_w),
+            },
+            wgpu::BindGroupEntry {
+                binding: 9,
+                resource: tv(sh_view),
             },
         ],
     })
@@ -650,6 +675,15 @@ fn shade_uniforms(
         shaft_q,
         clouds: cloud_uniform,
         jitter: [cam.jitter.x, cam.jitter.y, cam.frame as f32, 0.0],
+        sky_sh: inputs.env.map_or([[0.0; 4]; 9], |e| {
+            std::array::from_fn(|k| [e.sh9[0][k], e.sh9[1][k], e.sh9[2][k], 0.0])
+        }),
+        occlusion: [
+            (scene.lighting.sky.occlusion == himmel_skymodel::SkyOcclusion::Ao) as u32,
+            0,
+            0,
+            0,
+        ],
     }
 }
 

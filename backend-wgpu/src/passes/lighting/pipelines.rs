@@ -190,6 +190,14 @@ impl Pipelines {
                 entry(4, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
                 entry(8, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
                 entry(5, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+                entry(
+                    9,
+                    c,
+                    texture(
+                        wgpu::TextureSampleType::Uint,
+                        wgpu::TextureViewDimension::D2,
+                    ),
+                ),
                 storage(6, wgpu::TextureFormat::Rgba32Float),
                 storage(7, wgpu::TextureFormat::Rgba32Float),
             ],

@@ -35,8 +35,19 @@
 //   neighbours on the same surface (normal within 25°, on the centre's
 //   plane within 2 % of the distance).
 // * `hbao` (Bavoil et al. 2008): ao_hbao.wgsl, concatenated after this.
+// * S3HO (`gtao` with `lighting.ao.sh`): the same slices also project the
+//   blocked part of the cosine-weighted visibility onto the real spherical
+//   harmonics of l ≤ 2 (world frame),
+//     B_lm = ∫_Ω (1 − V_R(ω)) max(0, n·ω) Y_lm(ω) dω
+//          = A_l Y_lm(n) − T_lm  (A_l = π, 2π/3, π/4; T the transfer),
+//   each slice's blocked arcs [γ − π/2, h₀] and [h₁, γ + π/2] by the
+//   midpoint rule (8 points each), scaled like A: π Σ_slices / Σ |n_p|
+//   (cos γ + γ sin γ) — an open pixel gives exactly 0, however few the
+//   slices. B_00 = Y_00 π (1 − A) follows from A; the other eight go out
+//   as f16 pairs (rgba32uint), and the lighting pass takes Σ L_lm B_lm,
+//   with the sky's radiance coefficients L_lm, from the open sky's light.
 // Output: rgba32float, xyz the bent normal (world frame), w = A; sky pixels
-// (0, 0, 0, 1).
+// (0, 0, 0, 1); with S3HO, B_1m..B_2m packed.
 
 struct Ao {
     // xyz: eye; w: tan(fov / 2).
@@ -51,7 +62,8 @@ struct Ao {
     params: vec4<f32>,
     // Method (0 ssao, 1 gtao, 2 hbao: ao_hbao.wgsl), slices, steps, samples.
     q: vec4<u32>,
-    // Blur half side (px), the frame's index in a temporal run, 0, 0.
+    // Blur half side (px), the frame's index in a temporal run, 1 with
+    // S3HO, 0.
     q2: vec4<u32>,
 }
 
@@ -61,6 +73,12 @@ struct Ao {
 @group(0) @binding(3) var g_material: texture_2d<u32>;
 @group(0) @binding(4) var ao_out: texture_storage_2d<rgba32float, write>;
 @group(0) @binding(5) var ao_in: texture_2d<f32>;
+// S3HO: B_1,-1 … B_2,2 as f16 pairs (1 × 1 stand-ins without it).
+@group(0) @binding(6) var sh_out: texture_storage_2d<rgba32uint, write>;
+@group(0) @binding(7) var sh_in: texture_2d<u32>;
+
+// The slices' sum of B_1,-1 … B_2,2 (unnormalised), gtao's by-product.
+var<private> sh_sum: array<f32, 8>;
 
 const PI: f32 = 3.14159265358979;
 const HALF_PI: f32 = 1.57079632679490;
@@ -112,6 +130,25 @@ fn ign(q: vec2<u32>) -> f32 {
 fn bayer4(q: vec2<u32>) -> u32 {
     var m = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
     return m[(q.x & 3u) + 4u * (q.y & 3u)];
+}
+
+// The real SH basis of l = 1, 2 at unit d (the order of env.rs
+// `sh9_basis`, without Y_00).
+fn sh8(d: vec3<f32>) -> array<f32, 8> {
+    return array<f32, 8>(
+        0.488603 * d.y, 0.488603 * d.z, 0.488603 * d.x,
+        1.092548 * d.x * d.y, 1.092548 * d.y * d.z, 0.315392 * (3.0 * d.z * d.z - 1.0),
+        1.092548 * d.x * d.z, 0.546274 * (d.x * d.x - d.y * d.y));
+}
+
+fn sh_on() -> bool {
+    return a.q2.z == 1u;
+}
+
+// B_1,-1 … B_2,2 packed as f16 pairs.
+fn pack_sh(t: array<f32, 8>) -> vec4<u32> {
+    return vec4<u32>(pack2x16float(vec2<f32>(t[0], t[1])), pack2x16float(vec2<f32>(t[2], t[3])),
+        pack2x16float(vec2<f32>(t[4], t[5])), pack2x16float(vec2<f32>(t[6], t[7])));
 }
 
 // The cosine-weighted integral of one side of a slice up to horizon h.
@@ -199,11 +236,33 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
             let th = h[0] + (f32(i) + 0.5) * dh;
             m += vec2<f32>(cos(th), sin(th)) * (cos(th - g) * abs(sin(th)));
         }
+        if sh_on() {
+            // S3HO's share of the slice: its blocked arcs, [γ − π/2, h₀]
+            // and [h₁, γ + π/2] (each on one side of the view vector,
+            // where |sin θ| is smooth), so that an open slice adds nothing
+            // however few the slices.
+            for (var side = 0; side < 2; side++) {
+                let lo = select(g - HALF_PI, h[1], side == 1);
+                let hi = select(h[0], g + HALF_PI, side == 1);
+                let ds = (hi - lo) / f32(BENT_POINTS / 2u);
+                for (var i = 0u; i < BENT_POINTS / 2u; i++) {
+                    let th = lo + (f32(i) + 0.5) * ds;
+                    let y = sh8(v * cos(th) + ortho * sin(th));
+                    let wt = cos(th - g) * abs(sin(th)) * nlen * ds;
+                    for (var c = 0u; c < 8u; c++) {
+                        sh_sum[c] += y[c] * wt;
+                    }
+                }
+            }
+        }
         bent += (v * m.x + ortho * m.y) * (nlen * dh);
     }
     var ao = 1.0;
     if norm > 1e-6 {
         ao = clamp(vis / norm, 0.0, 1.0);
+        for (var i = 0u; i < 8u; i++) {
+            sh_sum[i] *= PI / norm;
+        }
     }
     var b = n;
     if dot(bent, bent) > 1e-12 {
@@ -264,6 +323,9 @@ fn occlude(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if textureLoad(g_material, px, 0).x == 0u {
         textureStore(ao_out, px, vec4<f32>(0.0, 0.0, 0.0, 1.0));
+        if sh_on() {
+            textureStore(sh_out, px, vec4<u32>(0u));
+        }
         return;
     }
     let dist = textureLoad(g_distance, px, 0).x;
@@ -276,10 +338,16 @@ fn occlude(@builtin(global_invocation_id) gid: vec3<u32>) {
     if r_px < 1.0 {
         // The radius is below a pixel: nothing the G-buffer resolves.
         textureStore(ao_out, px, vec4<f32>(n, 1.0));
+        if sh_on() {
+            textureStore(sh_out, px, vec4<u32>(0u));
+        }
         return;
     }
     if a.q.x == 1u {
         textureStore(ao_out, px, gtao(px, p, n, r_px));
+        if sh_on() {
+            textureStore(sh_out, px, pack_sh(sh_sum));
+        }
     } else if a.q.x == 2u {
         textureStore(ao_out, px, hbao(px, p, n, r_px));
     } else {
@@ -296,6 +364,9 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
     let c = textureLoad(ao_in, px, 0);
     if textureLoad(g_material, px, 0).x == 0u {
         textureStore(ao_out, px, c);
+        if sh_on() {
+            textureStore(sh_out, px, textureLoad(sh_in, px, 0));
+        }
         return;
     }
     let dist = textureLoad(g_distance, px, 0).x;
@@ -316,11 +387,28 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
             }
             acc += textureLoad(ao_in, q, 0);
             wsum += 1.0;
+            if sh_on() {
+                let t = textureLoad(sh_in, q, 0);
+                for (var i = 0u; i < 4u; i++) {
+                    let h = unpack2x16float(t[i]);
+                    sh_sum[2u * i] += h.x;
+                    sh_sum[2u * i + 1u] += h.y;
+                }
+            }
         }
     }
     if wsum < 0.5 {
         textureStore(ao_out, px, c);
+        if sh_on() {
+            textureStore(sh_out, px, textureLoad(sh_in, px, 0));
+        }
         return;
+    }
+    if sh_on() {
+        for (var i = 0u; i < 8u; i++) {
+            sh_sum[i] /= wsum;
+        }
+        textureStore(sh_out, px, pack_sh(sh_sum));
     }
     let m = acc / wsum;
     var b = n;

@@ -41,6 +41,13 @@ struct Shade {
     // The frame's jitter (px, x right, y down; temporal.rs), its index in
     // the temporal run (turns the per-pixel noise), 0.
     jitter: vec4<f32>,
+    // The sky's radiance on the SH of l ≤ 2 (env.rs `sh9`, cd/m²): rgb per
+    // coefficient, in `sh9_basis` order.
+    sky_sh: array<vec4<f32>, 9>,
+    // x: 1 when `lighting.sky.occlusion` is `ao` (no visibility maps: the
+    // cells are open, the ao pass occludes); y: 1 when the ao pass's S3HO
+    // image is bound; 0, 0.
+    occlusion: vec4<u32>,
 }
 
 struct SkyCell {

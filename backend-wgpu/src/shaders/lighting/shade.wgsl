@@ -30,6 +30,11 @@
 //   irradiance E × min(1, AO / (Y(E) / Y(E_open))), E_open the cells'
 //   irradiance with nothing in the way — the smaller of the visibility
 //   maps' visibility and AO (passes/lighting/ao.rs); never the Sun or Moon.
+//   With `lighting.sky.occlusion` `ao` the cells are open (no maps) and
+//   E = E_open × AO, or with S3HO (`lighting.ao.sh`, only then) E_open
+//   less the light the pixel's blockers take, Σ L_lm B_lm: the sky's
+//   radiance coefficients weighted by the blocked part of the pixel's
+//   cosine-weighted visibility (`s3ho_blocked`).
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -82,6 +87,9 @@ struct CellPart {
 // The ao pass's bent normal (xyz) and AO (w); a 1 × 1 stand-in when it
 // did not run.
 @group(1) @binding(5) var ao_in: texture_2d<f32>;
+// Its S3HO image: B_1,-1 … B_2,2 (the blocked transfer) as f16 pairs
+// (ao.wgsl); a 1 × 1 stand-in without it.
+@group(1) @binding(9) var sh_in: texture_2d<u32>;
 // For the ssr pass (ssr.wgsl), when it runs (else 1 × 1 stand-ins, not
 // written): the sky's prefiltered specular term as it reaches the camera
 // (rgb, cd/m²) and its split-sum weight (F0·A + B) × the transmittances
@@ -147,6 +155,10 @@ fn cell_whole(c: SkyCell, n: vec3<f32>) -> vec3<f32> {
 // against the receiver's plane.
 fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     let c = cells[k];
+    if u.occlusion.x == 1u {
+        // No visibility maps: the ao pass occludes.
+        return vec4<f32>(cell_whole(c, n), 1.0);
+    }
     let m = cell_view[k];
     let texel = c.dir.w;
     let q = p + n * (1.5 * texel);
@@ -452,6 +464,19 @@ fn open_irradiance(n: vec3<f32>, g: vec2<u32>) -> vec3<f32> {
     return e;
 }
 
+// S3HO: the sky's irradiance that the pixel's blockers take, per channel:
+// Σ L_lm B_lm, B the blocked part of the cosine-weighted visibility
+// (ao.wgsl), B_00 = Y_00 π (1 − AO).
+fn s3ho_blocked(px: vec2<i32>, ao: f32) -> vec3<f32> {
+    let packed = textureLoad(sh_in, px, 0);
+    var blocked = u.sky_sh[0].rgb * (0.282095 * PI * (1.0 - ao));
+    for (var i = 0u; i < 4u; i++) {
+        let b = unpack2x16float(packed[i]);
+        blocked += u.sky_sh[1u + 2u * i].rgb * b.x + u.sky_sh[2u + 2u * i].rgb * b.y;
+    }
+    return blocked;
+}
+
 // The sky pass: this pixel's set of cells (its place in the N × N block),
 // each cell's first moment seen through its visibility map.
 @compute @workgroup_size(8, 8)
@@ -600,11 +625,23 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
         var e = acc.rgb / max(wsum, 1.0);
         open = acc.a / max(wsum, 1.0);
         if all(textureDimensions(ao_in) == vec2<u32>(w, h)) {
-            // The maps' own cosine-weighted visibility (luminance): AO
-            // darkens only where it finds less.
-            let y = vec3<f32>(0.2126, 0.7152, 0.0722);
-            let seen = dot(e, y) / max(dot(open_irradiance(s.n, gid.xy), y), 1e-20);
-            e *= min(1.0, textureLoad(ao_in, px, 0).w / max(seen, 1e-3));
+            let ao = textureLoad(ao_in, px, 0).w;
+            if u.occlusion.x == 1u {
+                // The cells are open: the ao pass alone occludes — AO, or
+                // with S3HO (only here) the light it finds blocked (never
+                // less than none: the lobes' ringing must not add light).
+                if u.occlusion.y == 1u {
+                    e = clamp(e - s3ho_blocked(px, ao), vec3<f32>(0.0), e);
+                } else {
+                    e *= ao;
+                }
+            } else {
+                // The maps' own cosine-weighted visibility (luminance): AO
+                // darkens only where it finds less.
+                let y = vec3<f32>(0.2126, 0.7152, 0.0722);
+                let seen = dot(e, y) / max(dot(open_irradiance(s.n, gid.xy), y), 1e-20);
+                e *= min(1.0, ao / max(seen, 1e-3));
+            }
         }
         let spec_vis = acc_s / max(wsum, 1.0);
         let r = reflect(ray, s.n);

@@ -1,0 +1,226 @@
+//! S3HO against scalar AO (issue 16): the sky's diffuse light occluded by
+//! the ao pass alone (`lighting.sky.occlusion` `ao`: no visibility maps),
+//! once by `gtao`'s scalar AO and once by its SH projection (S3HO,
+//! `lighting.ao.sh`), compared with Mitsuba's `max_depth` 2 reference of
+//! the same case (`tests/fixtures/world_ref/`, `tools/world_reference.py`)
+//! on its sky-lit-only pixels (in the Sun's shadow or facing away from it,
+//! whole pixels on one plane): the luminance-weighted mean relative error
+//! Σ|ΔY| / ΣY_ref, as `world_mitsuba` measures it.
+//!
+//! The cases lie under the low winter Sun (10°, from the south), whose sky
+//! is far from uniform (its aureole and the bright southern horizon
+//! against a darker north): the atrium from above and towards the wall
+//! that hides the Sun — its shadowed floor sees the bright side over the
+//! walls only, so a scalar AO, which takes the same fraction of every side
+//! of the sky, gives it too much light — and the plane with boxes. The
+//! issue's goal, S3HO's error ≤ 0.7 × scalar AO's, is asserted where this
+//! version meets it (the two atrium views); each ratio and error is also
+//! bounded a little above what this version measures, so that a change
+//! for the worse fails; and S3HO must leave open pixels (AO 1) alone.
+//!
+//! `cargo test -p himmel-tests --test world_s3ho -- --nocapture` prints the
+//! figures the README quotes; `HIMMEL_S3HO='{"radius_m": 6}'` (a
+//! `lighting.ao` object; `sh` is set by the test) measures other settings
+//! (printed, not asserted).
+
+mod wgpu_common;
+mod world_common;
+
+use himmel_skymodel::{AoSettings, Effect, SkyOcclusion, SkyRenderer, SkyState};
+use serde_json::Value;
+use world_common::metrics::{luminance, mask_channel, mean_relative_error, read_exr};
+use world_common::metrics::{RgbImage, SKYLIT};
+
+fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// (case, its file of cases): the atrium from above and towards the low
+/// Sun's wall (`tools/s3ho_cases.json`), and the plane with boxes under the
+/// same Sun (`tools/world_cases.json`).
+const CASES: [(&str, &str); 3] = [
+    ("atrium_low_top", "tools/s3ho_cases.json"),
+    ("atrium_low_south", "tools/s3ho_cases.json"),
+    ("plane_and_boxes_low", "tools/world_cases.json"),
+];
+
+/// The ao pass's settings of the comparison: `gtao` with a radius that
+/// reaches across the atrium's courtyard (its walls are the blockers).
+fn settings() -> AoSettings {
+    match std::env::var("HIMMEL_S3HO") {
+        Ok(json) => serde_json::from_str(&json).expect("HIMMEL_S3HO: a `lighting.ao` object"),
+        // 32 steps a side: the outer walls' tops, seen from above, are a
+        // few pixels wide, and 12 quadratically spaced steps jump them.
+        Err(_) => AoSettings {
+            radius_m: Some(RADIUS_M),
+            slices: 8,
+            steps: 32,
+            ..AoSettings::default()
+        },
+    }
+}
+
+/// Metres: from the courtyard's floor its walls (8 m high, up to 13.5 m
+/// away) are within reach.
+const RADIUS_M: f64 = 20.0;
+
+fn case((name, file): (&str, &str)) -> Value {
+    let cases: Value =
+        serde_json::from_str(&std::fs::read_to_string(root().join(file)).unwrap()).unwrap();
+    cases["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap()
+        .clone()
+}
+
+/// One render of a case with S3HO on or off.
+struct Measured {
+    /// The sky-lit pixels' error against Mitsuba.
+    err: f64,
+    /// The ao pass's `--stats` ms.
+    ao_ms: f64,
+    /// The render.
+    img: RgbImage,
+    /// Its AO image (row-major).
+    ao: Vec<f32>,
+    /// Its bent normals (0 on sky pixels).
+    bent: Vec<[f32; 3]>,
+}
+
+fn measure(which: (&str, &str), sh: bool) -> Measured {
+    let c = case(which);
+    let name = which.0;
+    let mut s = world_common::cases::case_scene(&c);
+    s.effects.push(Effect::Ao);
+    s.lighting.sky.occlusion = SkyOcclusion::Ao;
+    s.lighting.ao = AoSettings { sh, ..settings() };
+    s.lighting.validate().unwrap();
+    let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
+    let state = SkyState::at(&s).unwrap();
+    let (out, ao_img) = {
+        let mut r = wgpu_common::gpu();
+        r.set_world(&world);
+        let out = r.render(&s, &state).unwrap();
+        (out, r.ao_image().unwrap().expect("the ao pass ran"))
+    };
+    let pass = |name: &str| out.passes.iter().find(|p| p.name == name).unwrap();
+    let ao = pass("ao");
+    assert!(ao.ran, "{:?}", ao.reason);
+    let maps = pass("world/sky-visibility");
+    assert!(
+        !maps.ran,
+        "the visibility maps were built: {:?}",
+        maps.reason
+    );
+    assert!(maps.reason.as_deref().unwrap().contains("occlusion is ao"));
+    if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
+        let p = std::path::Path::new(&d).join(format!("{name}_s3ho_{sh}.exr"));
+        himmel_cpu::output::write_exr(&p, &out.image).unwrap();
+    }
+    let img = RgbImage {
+        width: out.image.width,
+        height: out.image.height,
+        pixels: out.image.pixels,
+    };
+    let dir = root().join("tests/fixtures/world_ref");
+    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
+    let mask = mask_channel(
+        &read_exr(dir.join(format!("{name}_mask.exr"))).unwrap(),
+        SKYLIT,
+    );
+    assert!(mask.iter().filter(|m| **m).count() > 1_000);
+    Measured {
+        err: mean_relative_error(&img, &reference, &mask),
+        ao_ms: ao.ms.unwrap(),
+        img,
+        ao: ao_img.ao,
+        bent: ao_img.bent_normal,
+    }
+}
+
+/// The largest relative luminance change S3HO makes, against scalar AO, on
+/// the geometry pixels nothing occludes (AO 1): none, as it integrates only the
+/// blocked arcs (an open surface keeps the open sky's light).
+/// (Pixels, change.)
+fn open_change(scalar: &Measured, s3ho: &Measured) -> (usize, f64) {
+    let y = |p: &[f32; 3]| luminance(*p);
+    let mut worst = 0.0f64;
+    let mut n = 0;
+    let geometry = scalar.bent.iter().map(|b| b.iter().any(|c| *c != 0.0));
+    let pairs = scalar.img.pixels.iter().zip(&s3ho.img.pixels);
+    for (((a, b), ao), g) in pairs.zip(&scalar.ao).zip(geometry) {
+        if g && *ao >= 0.9999 && y(a) > 0.0 {
+            worst = worst.max((y(b) - y(a)).abs() / y(a));
+            n += 1;
+        }
+    }
+    (n, worst)
+}
+
+#[test]
+fn s3ho_beats_scalar_ao_under_a_low_sun() {
+    println!("Sky light occluded by the ao pass alone; sky-lit pixels vs Mitsuba:");
+    println!("| case | scalar AO | S3HO | S3HO / scalar | ao ms (scalar, S3HO) |");
+    println!("|---|---|---|---|---|");
+    let mut failures = Vec::new();
+    // The open pixels seen in all cases (the atrium's roofs and wall tops
+    // from above, mostly).
+    let mut open_pixels = 0;
+    for (k, which) in CASES.into_iter().enumerate() {
+        let (a, b) = (measure(which, false), measure(which, true));
+        let (scalar, scalar_ms, s3ho, s3ho_ms) = (a.err, a.ao_ms, b.err, b.ao_ms);
+        let (open, change) = open_change(&a, &b);
+        println!(
+            "{}: {open} open pixels (AO 1), S3HO changes them by ≤ {:.3} %",
+            which.0,
+            change * 100.0
+        );
+        open_pixels += open;
+        if change > OPEN_CHANGE {
+            failures.push(format!(
+                "{}: {open} open pixels changed by {change:.5} (≤ {OPEN_CHANGE})",
+                which.0
+            ));
+        }
+        println!(
+            "| {} | {:.2} % | {:.2} % | {:.3} | {scalar_ms:.0}, {s3ho_ms:.0} |",
+            which.0,
+            scalar * 100.0,
+            s3ho * 100.0,
+            s3ho / scalar
+        );
+        let (goal, scalar_bound, s3ho_bound) = BOUNDS[k];
+        if s3ho > goal * scalar || scalar > scalar_bound || s3ho > s3ho_bound {
+            failures.push(format!(
+                "{}: S3HO {s3ho:.4} (≤ {goal} × scalar, ≤ {s3ho_bound}), scalar {scalar:.4} (≤ {scalar_bound})",
+                which.0
+            ));
+        }
+    }
+    if open_pixels < 1000 {
+        failures.push(format!("only {open_pixels} open pixels to check"));
+    }
+    if std::env::var_os("HIMMEL_S3HO").is_none() {
+        assert!(failures.is_empty(), "{failures:#?}");
+    }
+}
+
+/// The largest relative change S3HO may make to an open pixel's luminance
+/// (measured ≤ 0.003 %: the f16 coefficients).
+const OPEN_CHANGE: f64 = 1e-3;
+
+/// Per case: the largest S3HO / scalar ratio (the issue's 0.7 where this
+/// version meets it, else what it measures plus about 0.04), and the
+/// bounds of the scalar and S3HO errors: what this version measures
+/// (lavapipe) plus half a percentage point.
+const BOUNDS: [(f64, f64, f64); 3] = [
+    // Measured 0.7245, 0.4562 (ratio 0.630).
+    (0.7, 0.73, 0.461),
+    // Measured 1.1328, 0.7872 (ratio 0.695).
+    (0.7, 1.138, 0.792),
+    // Measured 0.2400, 0.1924 (ratio 0.801).
+    (0.84, 0.245, 0.1975),
+];
