@@ -156,6 +156,67 @@ fn arc(h: f32, g: f32) -> f32 {
     return 0.25 * (cos(g) + 2.0 * h * sin(g) - cos(2.0 * h - g));
 }
 
+// One slice of `gtao`/`hbao` through the view vector v at screen angle
+// (s + rot) / slices × π: its screen direction, the unit vector in the
+// slice orthogonal to v, the normal projected into the slice (unit, with
+// its length) and that projection's angle γ from v. ok: false where the
+// slice is degenerate (along v, or n normal to it).
+struct Slice {
+    dir2: vec2<f32>,
+    ortho: vec3<f32>,
+    np_hat: vec3<f32>,
+    nlen: f32,
+    g: f32,
+    ok: bool,
+}
+
+fn slice_at(s: u32, slices: u32, rot: f32, v: vec3<f32>, n: vec3<f32>) -> Slice {
+    var out: Slice;
+    out.ok = false;
+    let phi = (f32(s) + rot) / f32(slices) * PI;
+    out.dir2 = vec2<f32>(cos(phi), sin(phi));
+    let dir3 = a.right.xyz * out.dir2.x - a.up.xyz * out.dir2.y;
+    let o = dir3 - v * dot(dir3, v);
+    if dot(o, o) < 1e-12 {
+        return out;
+    }
+    out.ortho = normalize(o);
+    let axis = cross(v, out.ortho);
+    let np = n - axis * dot(n, axis);
+    out.nlen = length(np);
+    if out.nlen < 1e-4 {
+        return out;
+    }
+    out.np_hat = np / out.nlen;
+    out.g = atan2(dot(np, out.ortho), dot(np, v));
+    out.ok = true;
+    return out;
+}
+
+// The offset `delta` of a sample from p, put into the slice: the sample's
+// pixel centre lies up to half a pixel off it, so keep its height above
+// the tangent plane and its distance along it (an off-slice point of the
+// plane itself would rise above the slice's tangent line and occlude).
+// `tangent`: the slice's line in the tangent plane on the sample's side.
+fn into_slice(delta: vec3<f32>, n: vec3<f32>, tangent: vec3<f32>, sl: Slice) -> vec3<f32> {
+    let len = length(delta);
+    let z = dot(delta, n);
+    let rho = sqrt(max(len * len - z * z, 0.0));
+    return tangent * rho + sl.np_hat * (z / sl.nlen);
+}
+
+// The slice's share of ∫ ω (n·ω) dω over its open arc [h0, h1] (midpoint
+// rule; the slice's measure is |sin θ| dθ): the bent normal's sum.
+fn open_moment(h0: f32, h1: f32, v: vec3<f32>, sl: Slice) -> vec3<f32> {
+    var m = vec2<f32>(0.0);
+    let dh = (h1 - h0) / f32(BENT_POINTS);
+    for (var i = 0u; i < BENT_POINTS; i++) {
+        let th = h0 + (f32(i) + 0.5) * dh;
+        m += vec2<f32>(cos(th), sin(th)) * (cos(th - sl.g) * abs(sin(th)));
+    }
+    return (v * m.x + sl.ortho * m.y) * (sl.nlen * dh);
+}
+
 fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     let radius = a.params.x;
     let v = normalize(a.eye.xyz - p);
@@ -169,22 +230,13 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     var norm = 0.0;
     var bent = vec3<f32>(0.0);
     for (var s = 0u; s < slices; s++) {
-        let phi = (f32(s) + rot) / f32(slices) * PI;
-        let dir2 = vec2<f32>(cos(phi), sin(phi));
-        let dir3 = a.right.xyz * dir2.x - a.up.xyz * dir2.y;
-        let o = dir3 - v * dot(dir3, v);
-        if dot(o, o) < 1e-12 {
+        let sl = slice_at(s, slices, rot, v, n);
+        if !sl.ok {
             continue;
         }
-        let ortho = normalize(o);
-        let axis = cross(v, ortho);
-        let np = n - axis * dot(n, axis);
-        let nlen = length(np);
-        if nlen < 1e-4 {
-            continue;
-        }
-        let g = atan2(dot(np, ortho), dot(np, v));
-        let np_hat = np / nlen;
+        let ortho = sl.ortho;
+        let nlen = sl.nlen;
+        let g = sl.g;
         var h = array<f32, 2>(g - HALF_PI, g + HALF_PI);
         for (var side = 0; side < 2; side++) {
             let sgn = f32(2 * side - 1);
@@ -195,7 +247,7 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
             for (var k = 0u; k < steps; k++) {
                 let t = (f32(k) + jit) / f32(steps);
                 let d_px = 1.0 + (r_px - 1.0) * t * t;
-                let q = vec2<i32>(floor(centre + dir2 * (sgn * d_px)));
+                let q = vec2<i32>(floor(centre + sl.dir2 * (sgn * d_px)));
                 if !on_screen(q) {
                     break;
                 }
@@ -207,14 +259,7 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
                 if len < 1e-6 {
                     continue;
                 }
-                // The sample's pixel centre lies up to half a pixel off the
-                // slice: keep its height above the tangent plane and its
-                // distance along it, and put it into the slice there (an
-                // off-slice point of the plane itself would rise above the
-                // slice's tangent line and occlude).
-                let z = dot(delta, n);
-                let rho = sqrt(max(len * len - z * z, 0.0));
-                let ds = tangent * rho + np_hat * (z / nlen);
+                let ds = into_slice(delta, n, tangent, sl);
                 let wgt = clamp((radius - len) / (FALLOFF * radius), 0.0, 1.0);
                 best = max(best, mix(low, dot(ds, v) / max(length(ds), 1e-9), wgt));
             }
@@ -228,14 +273,6 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
         let slice_vis = nlen * (arc(h[0], g) + arc(h[1], g));
         vis += slice_vis;
         norm += nlen * (cos(g) + g * sin(g));
-        // The slice's share of ∫ ω (n·ω) dω over the open arc (midpoint
-        // rule; the slice's measure is |sin θ| dθ).
-        var m = vec2<f32>(0.0);
-        let dh = (h[1] - h[0]) / f32(BENT_POINTS);
-        for (var i = 0u; i < BENT_POINTS; i++) {
-            let th = h[0] + (f32(i) + 0.5) * dh;
-            m += vec2<f32>(cos(th), sin(th)) * (cos(th - g) * abs(sin(th)));
-        }
         if sh_on() {
             // S3HO's share of the slice: its blocked arcs, [γ − π/2, h₀]
             // and [h₁, γ + π/2] (each on one side of the view vector,
@@ -255,7 +292,7 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
                 }
             }
         }
-        bent += (v * m.x + ortho * m.y) * (nlen * dh);
+        bent += open_moment(h[0], h[1], v, sl);
     }
     var ao = 1.0;
     if norm > 1e-6 {

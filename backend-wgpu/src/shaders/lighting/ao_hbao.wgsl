@@ -16,7 +16,9 @@
 // about v, with each elevation band weighted by cos α (not the cosine
 // about n of gtao's and the reference's AO), softened by W. The bent
 // normal is gtao's: the cosine-weighted mean direction of each slice's
-// open arc between its two horizons.
+// open arc between its two horizons. The slices (`slice_at`), the samples
+// put into them (`into_slice`) and the bent normal (`open_moment`) are
+// ao.wgsl's, shared with gtao.
 
 fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     let radius = a.params.x;
@@ -30,33 +32,23 @@ fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     var dirs = 0.0;
     var bent = vec3<f32>(0.0);
     for (var s = 0u; s < slices; s++) {
-        let phi = (f32(s) + rot) / f32(slices) * PI;
-        let dir2 = vec2<f32>(cos(phi), sin(phi));
-        let dir3 = a.right.xyz * dir2.x - a.up.xyz * dir2.y;
-        let o = dir3 - v * dot(dir3, v);
-        if dot(o, o) < 1e-12 {
+        let sl = slice_at(s, slices, rot, v, n);
+        if !sl.ok {
             continue;
         }
-        let ortho = normalize(o);
-        let axis = cross(v, ortho);
-        let np = n - axis * dot(n, axis);
-        let nlen = length(np);
-        if nlen < 1e-4 {
-            continue;
-        }
-        let g = atan2(dot(np, ortho), dot(np, v));
+        let g = sl.g;
         var h = array<f32, 2>(g - HALF_PI, g + HALF_PI);
         for (var side = 0; side < 2; side++) {
             let sgn = f32(2 * side - 1);
             // The tangent's elevation on this side: the slice's line in the
             // tangent plane, at angle g ± π/2 from v.
             var sin_h = cos(h[side]);
-            let tangent = v * sin_h + ortho * sin(h[side]);
+            let tangent = v * sin_h + sl.ortho * sin(h[side]);
             var ao = 0.0;
             for (var k = 0u; k < steps; k++) {
                 let t = (f32(k) + jit) / f32(steps);
                 let d_px = 1.0 + (r_px - 1.0) * t * t;
-                let q = vec2<i32>(floor(centre + dir2 * (sgn * d_px)));
+                let q = vec2<i32>(floor(centre + sl.dir2 * (sgn * d_px)));
                 if !on_screen(q) {
                     break;
                 }
@@ -68,11 +60,7 @@ fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
                 if len < 1e-6 || len >= radius {
                     continue;
                 }
-                // Into the slice, as gtao does: an off-slice pixel centre
-                // of the plane itself would rise above the tangent line.
-                let z = dot(delta, n);
-                let rho = sqrt(max(len * len - z * z, 0.0));
-                let ds = tangent * rho + (np / nlen) * (z / nlen);
+                let ds = into_slice(delta, n, tangent, sl);
                 let sin_s = dot(ds, v) / max(length(ds), 1e-9);
                 if sin_s > sin_h {
                     let r = len / radius;
@@ -89,13 +77,7 @@ fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
                 h[1] = min(ang, g + HALF_PI);
             }
         }
-        var m = vec2<f32>(0.0);
-        let dh = (h[1] - h[0]) / f32(BENT_POINTS);
-        for (var i = 0u; i < BENT_POINTS; i++) {
-            let th = h[0] + (f32(i) + 0.5) * dh;
-            m += vec2<f32>(cos(th), sin(th)) * (cos(th - g) * abs(sin(th)));
-        }
-        bent += (v * m.x + ortho * m.y) * (nlen * dh);
+        bent += open_moment(h[0], h[1], v, sl);
     }
     var ao = 1.0;
     if dirs > 0.0 {
