@@ -85,6 +85,14 @@ pub struct AoSettings {
     /// the light), where scalar AO takes the same fraction of every side.
     /// Used only with `lighting.sky.occlusion` `ao`. Default false.
     pub sh: bool,
+    /// `gtao`'s visibility bitmask (Therrien, Levesque & Gilet 2023):
+    /// metres, in [0.01, 100], that each surface the G-buffer shows is
+    /// taken to be thick. A slice's half-disk is cut into 32 sectors and a
+    /// sample blocks those between its front and its back (that point
+    /// `thickness_m` farther along its view ray), so a thin pole or a
+    /// railing occludes its own width rather than everything below its
+    /// horizon. Absent (the default): infinitely thick, classic `gtao`.
+    pub thickness_m: Option<f64>,
 }
 
 impl Default for AoSettings {
@@ -101,6 +109,7 @@ impl Default for AoSettings {
             bounce_steps: 12,
             bounce_radius_m: None,
             sh: false,
+            thickness_m: None,
         }
     }
 }
@@ -138,6 +147,15 @@ impl AoSettings {
             ("lighting.ao.bounce_steps", self.bounce_steps, 1, 64),
         ] {
             check_range(f, v as f64, lo as f64, hi as f64)?;
+        }
+        if let Some(t) = self.thickness_m {
+            check_range("lighting.ao.thickness_m", t, 0.01, 100.0)?;
+            if self.method != AoMethod::Gtao {
+                return Err(SceneError::new(
+                    "lighting.ao.thickness_m",
+                    "the visibility bitmask is gtao's: it needs method gtao",
+                ));
+            }
         }
         if self.sh && self.method != AoMethod::Gtao {
             return Err(SceneError::new(
@@ -229,6 +247,20 @@ mod tests {
             ..c
         };
         assert_eq!(d.validate().unwrap_err().field, "lighting.ao.sh");
+        let t: AoSettings = serde_json::from_str(r#"{"thickness_m": 0.5}"#).unwrap();
+        assert!(t.thickness_m == Some(0.5) && t.validate().is_ok());
+        for bad in [
+            AoSettings {
+                thickness_m: Some(0.0),
+                ..t
+            },
+            AoSettings {
+                method: AoMethod::Hbao,
+                ..t
+            },
+        ] {
+            assert_eq!(bad.validate().unwrap_err().field, "lighting.ao.thickness_m");
+        }
         assert!(serde_json::from_str::<AoSettings>(r#"{"radius": 1}"#).is_err());
     }
 }

@@ -183,7 +183,12 @@ fn pipes(gpu: &Gpu) -> AoPipes {
 fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
     AoUniforms {
         cam: cam.block(),
-        params: [radius_m, 0.0, cam.jitter.x, cam.jitter.y],
+        params: [
+            radius_m,
+            s.thickness_m.unwrap_or(0.0) as f32,
+            cam.jitter.x,
+            cam.jitter.y,
+        ],
         q: [
             match s.method {
                 AoMethod::Ssao => 0,
@@ -286,7 +291,10 @@ impl Occlusion {
             name: "ao".into(),
             ran: true,
             ms: Some(t.elapsed().as_secs_f64() * 1e3),
-            reason: Some(format!("{method}, radius {radius_m:.2} m")),
+            reason: Some(match settings.thickness_m {
+                Some(t) => format!("{method}, radius {radius_m:.2} m, bitmask thickness {t:.2} m"),
+                None => format!("{method}, radius {radius_m:.2} m"),
+            }),
         })
     }
 

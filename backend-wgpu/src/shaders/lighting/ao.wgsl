@@ -34,6 +34,7 @@
 // * `blur` (both): a depth-aware box of (2 blur_px + 1)² pixels over the
 //   neighbours on the same surface (normal within 25°, on the centre's
 //   plane within 2 % of the distance).
+// * `gtao` with `thickness_m`: the visibility bitmask (below, before gtao).
 // * `hbao` (Bavoil et al. 2008): ao_hbao.wgsl, concatenated after this.
 // * S3HO (`gtao` with `lighting.ao.sh`): the same slices also project the
 //   blocked part of the cosine-weighted visibility onto the real spherical
@@ -58,7 +59,8 @@ struct Ao {
     right: vec4<f32>,
     // xyz: up; w: height, px.
     up: vec4<f32>,
-    // R (m), 0, the frame's jitter (px, x right, y down; temporal.rs).
+    // R (m), the bitmask's thickness (m; 0: off), the frame's jitter (px,
+    // x right, y down; temporal.rs).
     params: vec4<f32>,
     // Method (0 ssao, 1 gtao, 2 hbao: ao_hbao.wgsl), slices, steps, samples.
     q: vec4<u32>,
@@ -217,6 +219,65 @@ fn open_moment(h0: f32, h1: f32, v: vec3<f32>, sl: Slice) -> vec3<f32> {
     return (v * m.x + sl.ortho * m.y) * (sl.nlen * dh);
 }
 
+// The visibility bitmask (Therrien, Levesque & Gilet 2023): with a
+// thickness T (`lighting.ao.thickness_m`, uniform params.y > 0), a slice's
+// half-disk [γ − π/2, γ + π/2] is cut into 32 sectors, and each sample
+// blocks the sectors between its front (the G-buffer point) and its back
+// (that point T farther along its view ray) instead of everything below
+// its horizon: a thin pole occludes its own width, not the sky behind it.
+
+// The cosine-weighted measure of the slice from 0 to θ (signed), the
+// integral gtao's arc() takes on each side.
+fn cum(th: f32, g: f32) -> f32 {
+    return select(-arc(th, g), arc(th, g), th >= 0.0);
+}
+
+// The sectors [i0, i1) of 32 as bits.
+fn sector_bits(u0: f32, u1: f32) -> u32 {
+    let i0 = u32(clamp(floor(min(u0, u1) * 32.0 + 0.5), 0.0, 32.0));
+    let i1 = u32(clamp(floor(max(u0, u1) * 32.0 + 0.5), 0.0, 32.0));
+    if i1 <= i0 {
+        return 0u;
+    }
+    let ones = select((1u << (i1 - i0)) - 1u, 0xffffffffu, i1 - i0 == 32u);
+    return ones << i0;
+}
+
+// The angle from v towards the slice's ortho of an offset's projection on
+// the slice's plane.
+fn plane_angle(d: vec3<f32>, v: vec3<f32>, sl: Slice) -> f32 {
+    return atan2(dot(d, sl.ortho), dot(d, v));
+}
+
+// Where a point put into the slice lies across its half-disk, 0 … 1.
+fn sector_of(ds: vec3<f32>, v: vec3<f32>, sl: Slice) -> f32 {
+    return (plane_angle(ds, v, sl) - (sl.g - HALF_PI)) / PI;
+}
+
+// A slice's open measure (× |n_p|) and the bent normal's sum over its
+// unset sectors; S3HO's sum over the set ones.
+fn bitmask_slice(bits: u32, v: vec3<f32>, sl: Slice) -> vec4<f32> {
+    var open = 0.0;
+    var m = vec3<f32>(0.0);
+    let d = PI / 32.0;
+    for (var k = 0u; k < 32u; k++) {
+        let lo = sl.g - HALF_PI + f32(k) * d;
+        let th = lo + 0.5 * d;
+        let dir = v * cos(th) + sl.ortho * sin(th);
+        if (bits & (1u << k)) == 0u {
+            open += cum(lo + d, sl.g) - cum(lo, sl.g);
+            m += dir * (cos(th - sl.g) * abs(sin(th)) * d);
+        } else if sh_on() {
+            let y = sh8(dir);
+            let wt = cos(th - sl.g) * abs(sin(th)) * sl.nlen * d;
+            for (var c = 0u; c < 8u; c++) {
+                sh_sum[c] += y[c] * wt;
+            }
+        }
+    }
+    return vec4<f32>(m * sl.nlen, open * sl.nlen);
+}
+
 fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     let radius = a.params.x;
     let v = normalize(a.eye.xyz - p);
@@ -226,6 +287,7 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(a.q2.y));
     let jit = ign(vec2<u32>(px));
     let centre = vec2<f32>(px) + 0.5;
+    let thickness = a.params.y;
     var vis = 0.0;
     var norm = 0.0;
     var bent = vec3<f32>(0.0);
@@ -238,6 +300,7 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
         let nlen = sl.nlen;
         let g = sl.g;
         var h = array<f32, 2>(g - HALF_PI, g + HALF_PI);
+        var bits = 0u;
         for (var side = 0; side < 2; side++) {
             let sgn = f32(2 * side - 1);
             let low = cos(h[side]);
@@ -260,6 +323,18 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
                     continue;
                 }
                 let ds = into_slice(delta, n, tangent, sl);
+                if thickness > 0.0 {
+                    if len < radius {
+                        // The back's angle: the front's (put into the
+                        // slice) moved by what T along the view ray turns
+                        // the point as the slice's plane sees it.
+                        let back = delta + normalize(p + delta - a.eye.xyz) * thickness;
+                        let turn = plane_angle(back, v, sl) - plane_angle(delta, v, sl);
+                        let uf = sector_of(ds, v, sl);
+                        bits |= sector_bits(uf, uf + turn / PI);
+                    }
+                    continue;
+                }
                 let wgt = clamp((radius - len) / (FALLOFF * radius), 0.0, 1.0);
                 best = max(best, mix(low, dot(ds, v) / max(length(ds), 1e-9), wgt));
             }
@@ -270,9 +345,14 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
                 h[1] = min(ang, g + HALF_PI);
             }
         }
-        let slice_vis = nlen * (arc(h[0], g) + arc(h[1], g));
-        vis += slice_vis;
         norm += nlen * (cos(g) + g * sin(g));
+        if thickness > 0.0 {
+            let b = bitmask_slice(bits, v, sl);
+            vis += b.w;
+            bent += b.xyz;
+            continue;
+        }
+        vis += nlen * (arc(h[0], g) + arc(h[1], g));
         if sh_on() {
             // S3HO's share of the slice: its blocked arcs, [γ − π/2, h₀]
             // and [h₁, γ + π/2] (each on one side of the view vector,
