@@ -22,7 +22,7 @@ mod world_common;
 use himmel_skymodel::{AoMethod, AoSettings, Effect, SkyRenderer, SkyState};
 use himmel_wgpu::WgpuRenderer;
 use serde_json::Value;
-use world_common::metrics::{mask_channel, mean_relative_error, read_exr, RgbImage};
+use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage};
 use world_common::metrics::{GEOMETRY, SKYLIT};
 
 fn root() -> std::path::PathBuf {
@@ -55,6 +55,9 @@ struct Measured {
     bias: f64,
     /// The mean AO over the compared pixels.
     mean: f64,
+    /// FLIP of the AO image against the reference's, both as grey images
+    /// (the reference's exposure), over the compared pixels.
+    flip: f64,
     ms: f64,
     pixels: usize,
 }
@@ -156,6 +159,15 @@ fn measure(name: &str, settings: AoSettings) -> Measured {
         mae: sum / n as f64,
         bias: bias / n as f64,
         mean: total / n as f64,
+        flip: {
+            let grey = |v: Vec<f32>| RgbImage {
+                width: reference.width,
+                height: reference.height,
+                pixels: v.into_iter().map(|a| [a; 3]).collect(),
+            };
+            let r = grey(reference.pixels.iter().map(|p| p[0]).collect());
+            flip(&grey(img.ao.clone()), &r, Some(&mask))
+        },
         ms: stat.ms.unwrap_or(0.0),
         pixels: n,
     }
@@ -163,15 +175,15 @@ fn measure(name: &str, settings: AoSettings) -> Measured {
 
 fn row(name: &str, label: &str, m: &Measured) {
     println!(
-        "| {name} | {label} | {:.4} | {:+.4} | {:.1} | {} |",
-        m.mae, m.bias, m.ms, m.pixels
+        "| {name} | {label} | {:.4} | {:+.4} | {:.3} | {:.1} | {} |",
+        m.mae, m.bias, m.flip, m.ms, m.pixels
     );
 }
 
 #[test]
 fn ao_against_mitsuba() {
-    println!("| case | method | MAE | mean error | ms | pixels |");
-    println!("|---|---|---|---|---|---|");
+    println!("| case | method | MAE | mean error | FLIP | ms | pixels |");
+    println!("|---|---|---|---|---|---|---|");
     let gtao = AoSettings::default();
     let ssao = AoSettings {
         method: AoMethod::Ssao,
