@@ -32,7 +32,7 @@ use himmel_skymodel::{AoMethod, AoSettings, RenderError};
 
 use super::resources::{texture, GBuffer};
 use super::view::{CameraBlock, WorldCamera};
-use crate::gpu::{bind_group, Gpu};
+use crate::gpu::{bind, bind_group, Gpu};
 
 /// The AO pass's uniforms (`Ao` in ao.wgsl).
 #[repr(C)]
@@ -115,55 +115,20 @@ fn image(gpu: &Gpu, (w, h): (u32, u32), copy: bool) -> wgpu::Texture {
 }
 
 fn pipes(gpu: &Gpu) -> AoPipes {
-    let c = wgpu::ShaderStages::COMPUTE;
-    let entry = |binding, ty| wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: c,
-        ty,
-        count: None,
-    };
-    let tex = |sample_type| wgpu::BindingType::Texture {
-        sample_type,
-        view_dimension: wgpu::TextureViewDimension::D2,
-        multisampled: false,
-    };
-    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
-    let layout = gpu
-        .device
-        .create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("ao"),
-            entries: &[
-                entry(
-                    0,
-                    wgpu::BindingType::Buffer {
-                        ty: wgpu::BufferBindingType::Uniform,
-                        has_dynamic_offset: false,
-                        min_binding_size: None,
-                    },
-                ),
-                entry(1, tex(unfiltered)),
-                entry(2, tex(unfiltered)),
-                entry(3, tex(wgpu::TextureSampleType::Uint)),
-                entry(
-                    4,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                ),
-                entry(5, tex(unfiltered)),
-                entry(
-                    6,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: SH_FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                ),
-                entry(7, tex(wgpu::TextureSampleType::Uint)),
-            ],
-        });
+    let f = bind::float_2d();
+    let layout = gpu.compute_layout(
+        "ao",
+        &[
+            bind::uniform(),
+            f,
+            f,
+            bind::uint_2d(),
+            bind::write_2d(FORMAT),
+            f,
+            bind::write_2d(SH_FORMAT),
+            bind::uint_2d(),
+        ],
+    );
     let module = gpu.shader(
         "ao.wgsl",
         concat!(
