@@ -195,6 +195,33 @@ fn slice_at(s: u32, slices: u32, rot: f32, v: vec3<f32>, n: vec3<f32>) -> Slice 
     return out;
 }
 
+// Sample k of `steps` along a slice's side (sgn ±1): its offset from p,
+// whether the walk leaves the screen there (stop), and whether it shows
+// a surface at all (ok: not the sky, not p itself).
+struct SliceSample {
+    delta: vec3<f32>,
+    stop: bool,
+    ok: bool,
+}
+
+fn slice_sample(p: vec3<f32>, px: vec2<i32>, sl: Slice, sgn: f32, t: f32, r_px: f32) -> SliceSample {
+    var out: SliceSample;
+    out.stop = false;
+    out.ok = false;
+    let d_px = 1.0 + (r_px - 1.0) * t * t;
+    let q = vec2<i32>(floor(vec2<f32>(px) + 0.5 + sl.dir2 * (sgn * d_px)));
+    if !on_screen(q) {
+        out.stop = true;
+        return out;
+    }
+    if textureLoad(g_material, q, 0).x == 0u {
+        return out;
+    }
+    out.delta = position(q) - p;
+    out.ok = length(out.delta) >= 1e-6;
+    return out;
+}
+
 // The offset `delta` of a sample from p, put into the slice: the sample's
 // pixel centre lies up to half a pixel off it, so keep its height above
 // the tangent plane and its distance along it (an off-slice point of the
@@ -286,7 +313,6 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     // The slices' angles turn by the golden ratio per frame of a run.
     let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(a.q2.y));
     let jit = ign(vec2<u32>(px));
-    let centre = vec2<f32>(px) + 0.5;
     let thickness = a.params.y;
     var vis = 0.0;
     var norm = 0.0;
@@ -308,20 +334,15 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
             let tangent = v * low + ortho * sin(h[side]);
             var best = low;
             for (var k = 0u; k < steps; k++) {
-                let t = (f32(k) + jit) / f32(steps);
-                let d_px = 1.0 + (r_px - 1.0) * t * t;
-                let q = vec2<i32>(floor(centre + sl.dir2 * (sgn * d_px)));
-                if !on_screen(q) {
+                let smp = slice_sample(p, px, sl, sgn, (f32(k) + jit) / f32(steps), r_px);
+                if smp.stop {
                     break;
                 }
-                if textureLoad(g_material, q, 0).x == 0u {
+                if !smp.ok {
                     continue;
                 }
-                let delta = position(q) - p;
+                let delta = smp.delta;
                 let len = length(delta);
-                if len < 1e-6 {
-                    continue;
-                }
                 let ds = into_slice(delta, n, tangent, sl);
                 if thickness > 0.0 {
                     if len < radius {

@@ -17,8 +17,8 @@
 // about n of gtao's and the reference's AO), softened by W. The bent
 // normal is gtao's: the cosine-weighted mean direction of each slice's
 // open arc between its two horizons. The slices (`slice_at`), the samples
-// put into them (`into_slice`) and the bent normal (`open_moment`) are
-// ao.wgsl's, shared with gtao.
+// along them (`slice_sample`) put into them (`into_slice`) and the bent
+// normal (`open_moment`) are ao.wgsl's, shared with gtao.
 
 fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     let radius = a.params.x;
@@ -27,7 +27,6 @@ fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
     let steps = max(a.q.z, 1u);
     let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(a.q2.y));
     let jit = ign(vec2<u32>(px));
-    let centre = vec2<f32>(px) + 0.5;
     var occluded = 0.0;
     var dirs = 0.0;
     var bent = vec3<f32>(0.0);
@@ -46,18 +45,13 @@ fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
             let tangent = v * sin_h + sl.ortho * sin(h[side]);
             var ao = 0.0;
             for (var k = 0u; k < steps; k++) {
-                let t = (f32(k) + jit) / f32(steps);
-                let d_px = 1.0 + (r_px - 1.0) * t * t;
-                let q = vec2<i32>(floor(centre + sl.dir2 * (sgn * d_px)));
-                if !on_screen(q) {
+                let smp = slice_sample(p, px, sl, sgn, (f32(k) + jit) / f32(steps), r_px);
+                if smp.stop {
                     break;
                 }
-                if textureLoad(g_material, q, 0).x == 0u {
-                    continue;
-                }
-                let delta = position(q) - p;
+                let delta = smp.delta;
                 let len = length(delta);
-                if len < 1e-6 || len >= radius {
+                if !smp.ok || len >= radius {
                     continue;
                 }
                 let ds = into_slice(delta, n, tangent, sl);
