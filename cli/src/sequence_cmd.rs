@@ -22,7 +22,7 @@ use himmel_cpu::output::Format as ImageFormat;
 use himmel_skymodel::camera::meter_ev100;
 use himmel_skymodel::sequence::exposure::smooth_ev100;
 use himmel_skymodel::sequence::{CameraPath, Sequence, SequenceError, MAX_FRAMES};
-use himmel_skymodel::{Exposure, Projection, Scene};
+use himmel_skymodel::{Effect, Exposure, Projection, Scene};
 use serde_json::json;
 
 use crate::render_cmd::{
@@ -130,11 +130,26 @@ const PREVIEW_SKY_VIEW: (usize, usize) = (48, 27);
 /// a preview's main cost; the wgpu backend computes the sky view in its
 /// shaders and keys its GPU LUTs by the whole configuration, so there the
 /// preview keeps the frame's.
+///
+/// With a 3D world the preview's lighting is coarser where that barely
+/// moves a 64-pixel mean and costs the most: the sky's occlusion from 16
+/// directions per set of 128² maps in one part each, a 16² sky cube,
+/// 512² shadow maps, and no temporal filter (a preview has no history to
+/// average). The lights, materials and the other passes are the frame's.
 fn preview(scene: &Scene, small_sky_view: bool) -> Scene {
     let mut s = scene.clone();
     if small_sky_view {
         s.lut.sky_view_w = s.lut.sky_view_w.min(PREVIEW_SKY_VIEW.0);
         s.lut.sky_view_h = s.lut.sky_view_h.min(PREVIEW_SKY_VIEW.1);
+    }
+    if s.world.is_some() {
+        let sky = &mut s.lighting.sky;
+        sky.directions = sky.directions.min(16);
+        sky.visibility_resolution = sky.visibility_resolution.min(128);
+        sky.parts = 1;
+        sky.cube_face = sky.cube_face.min(16);
+        s.lighting.shadows.resolution = s.lighting.shadows.resolution.min(512);
+        s.effects.retain(|e| *e != Effect::Temporal);
     }
     let c = &mut s.camera;
     let side = match c.projection {
@@ -336,5 +351,20 @@ mod tests {
         assert_eq!(preview(&s, true).camera, s.camera);
         assert_eq!(preview(&s, false).lut, s.lut);
         assert_eq!((p.lut.sky_view_w, p.lut.sky_view_h), PREVIEW_SKY_VIEW);
+        // Without a world the lighting keys are left alone; with one they
+        // are capped, never raised.
+        assert_eq!(p.lighting, s.lighting);
+        s.world = Some(himmel_skymodel::WorldSpec {
+            gltf: "room.glb".into(),
+            ground: false,
+        });
+        s.lighting.sky.directions = 8;
+        s.effects.push(Effect::Temporal);
+        let w = preview(&s, false);
+        assert_eq!(w.lighting.sky.directions, 8);
+        assert_eq!(w.lighting.sky.visibility_resolution, 128);
+        assert_eq!(w.lighting.shadows.resolution, 512);
+        assert!(!w.effects.contains(&Effect::Temporal));
+        assert!(w.lighting.validate().is_ok());
     }
 }
