@@ -121,6 +121,51 @@ impl Gpu {
             .map_err(device_error)
     }
 
+    /// The texels of a one-layer 2D `texture`, row-major and tightly
+    /// packed: copied into a buffer (rows padded to the copy alignment),
+    /// mapped and unpadded. `T` is one texel (its size the format's).
+    pub fn read_texels<T: bytemuck::Pod>(
+        &self,
+        texture: &wgpu::Texture,
+        label: &str,
+    ) -> Result<Vec<T>, RenderError> {
+        let (w, h) = (texture.width(), texture.height());
+        let texel = std::mem::size_of::<T>() as u64;
+        let align = wgpu::COPY_BYTES_PER_ROW_ALIGNMENT as u64;
+        let row = (w as u64 * texel).div_ceil(align) * align;
+        let buf = self.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some(label),
+            size: row * h as u64,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        let mut enc = self.device.create_command_encoder(&Default::default());
+        enc.copy_texture_to_buffer(
+            texture.as_image_copy(),
+            wgpu::TexelCopyBufferInfo {
+                buffer: &buf,
+                layout: wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(row as u32),
+                    rows_per_image: Some(h),
+                },
+            },
+            wgpu::Extent3d {
+                width: w,
+                height: h,
+                depth_or_array_layers: 1,
+            },
+        );
+        self.queue.submit([enc.finish()]);
+        let bytes = self.map_read(&buf, row * h as u64)?;
+        let line = (w as u64 * texel) as usize;
+        Ok(bytes
+            .chunks_exact(row as usize)
+            .flat_map(|r| r[..line].chunks_exact(texel as usize))
+            .map(bytemuck::pod_read_unaligned)
+            .collect())
+    }
+
     /// Maps the first `size` bytes of `buffer` (MAP_READ) and returns them.
     pub fn map_read(&self, buffer: &wgpu::Buffer, size: u64) -> Result<Vec<u8>, RenderError> {
         let slice = buffer.slice(..size);

@@ -309,42 +309,9 @@ impl Occlusion {
             return Ok(None);
         };
         let (w, h) = img.size;
-        let row = (w as u64 * 16).div_ceil(256) * 256;
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ao read back"),
-            size: row * h as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            img.out.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buf,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row as u32),
-                    rows_per_image: Some(h),
-                },
-            },
-            wgpu::Extent3d {
-                width: w,
-                height: h,
-                depth_or_array_layers: 1,
-            },
-        );
-        gpu.queue.submit([enc.finish()]);
-        let bytes = gpu.map_read(&buf, row * h as u64)?;
-        let mut ao = Vec::with_capacity((w * h) as usize);
-        let mut bent_normal = Vec::with_capacity((w * h) as usize);
-        for y in 0..h as usize {
-            let line = &bytes[y * row as usize..y * row as usize + w as usize * 16];
-            for px in line.chunks_exact(16) {
-                let v: [f32; 4] = bytemuck::pod_read_unaligned(px);
-                bent_normal.push([v[0], v[1], v[2]]);
-                ao.push(v[3]);
-            }
-        }
+        let texels: Vec<[f32; 4]> = gpu.read_texels(&img.out, "ao read back")?;
+        let ao = texels.iter().map(|v| v[3]).collect();
+        let bent_normal = texels.iter().map(|v| [v[0], v[1], v[2]]).collect();
         Ok(Some(AoImage {
             width: w,
             height: h,

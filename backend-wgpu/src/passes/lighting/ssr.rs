@@ -404,36 +404,7 @@ impl Reflections {
             return Ok(None);
         };
         let (w, h) = img.size;
-        let row = (w as u64 * 4).div_ceil(256) * 256;
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("ssr read back"),
-            size: row * h as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            img.conf.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buf,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row as u32),
-                    rows_per_image: Some(h),
-                },
-            },
-            extent((w, h)),
-        );
-        gpu.queue.submit([enc.finish()]);
-        let bytes = gpu.map_read(&buf, row * h as u64)?;
-        let mut confidence = Vec::with_capacity((w * h) as usize);
-        for y in 0..h as usize {
-            let line = &bytes[y * row as usize..y * row as usize + w as usize * 4];
-            confidence.extend(
-                line.chunks_exact(4)
-                    .map(|b| f32::from_le_bytes([b[0], b[1], b[2], b[3]])),
-            );
-        }
+        let confidence: Vec<f32> = gpu.read_texels(&img.conf, "ssr read back")?;
         Ok(Some(SsrImage {
             width: w,
             height: h,

@@ -369,38 +369,9 @@ impl Temporal {
             return Ok(None);
         };
         let (w, h) = img.size;
-        let row = (w as u64 * 16).div_ceil(256) * 256;
-        let buf = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("temporal read back"),
-            size: row * h as u64,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut enc = gpu.device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            img.aux[self.latest].as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &buf,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row as u32),
-                    rows_per_image: Some(h),
-                },
-            },
-            extent((w, h)),
-        );
-        gpu.queue.submit([enc.finish()]);
-        let bytes = gpu.map_read(&buf, row * h as u64)?;
-        let mut distance = Vec::with_capacity((w * h) as usize);
-        let mut frames = Vec::with_capacity((w * h) as usize);
-        for y in 0..h as usize {
-            let line = &bytes[y * row as usize..y * row as usize + w as usize * 16];
-            for px in line.chunks_exact(16) {
-                let v: [f32; 4] = bytemuck::pod_read_unaligned(px);
-                distance.push(v[0]);
-                frames.push(v[1]);
-            }
-        }
+        let aux: Vec<[f32; 4]> = gpu.read_texels(&img.aux[self.latest], "temporal read back")?;
+        let distance = aux.iter().map(|v| v[0]).collect();
+        let frames = aux.iter().map(|v| v[1]).collect();
         Ok(Some(TemporalImage {
             width: w,
             height: h,
