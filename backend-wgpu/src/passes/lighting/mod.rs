@@ -18,7 +18,9 @@
 //!    ([`bounce`], `bounce.wgsl`);
 //! 5. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
 //!    filtered shadows), the sky (occluded diffuse cells, prefiltered
-//!    specular), emission, fog and aerial perspective, written into the
+//!    specular; the sky's cells are split over an N × N block of pixels
+//!    and gathered back, `sky` and `gather` in `shade.wgsl`), emission,
+//!    fog and aerial perspective, written into the
 //!    target where the G-buffer has a surface; before it, when `godrays`
 //!    runs, the fog's in-scattering marched along the view rays
 //!    ([`godrays`], `godrays.wgsl`), blurred in screen space
@@ -476,12 +478,6 @@ impl LightingPasses {
                 tables.parts.as_entire_binding(),
             ],
         );
-        let sky_out = bind_group(
-            &gpu.device,
-            "sky out",
-            &pipes.sky_out_layout,
-            &[tv(&gb.sky[0]), tv(&gb.sky[1])],
-        );
         let sky_in = sky_in_group(
             gpu,
             pipes,
@@ -491,11 +487,7 @@ impl LightingPasses {
         let mut enc = gpu.device.create_command_encoder(&Default::default());
         let groups = (cam.width.div_ceil(8), cam.height.div_ceil(8), 1);
         if inputs.env.is_some() {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&pipes.sky);
-            pass.set_bind_group(0, &group, &[]);
-            pass.set_bind_group(1, &sky_out, &[]);
-            pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+            encode_sky(gpu, pipes, gb, &mut enc, &group, groups);
         }
         {
             let mut pass = enc.begin_compute_pass(&Default::default());
@@ -514,6 +506,59 @@ impl LightingPasses {
     }
 }
 
+/// Encodes the sky pass (each pixel's set of cells) and the gather pass
+/// (the block's sets), which leave in `gb.sky[2..5]` what the lighting
+/// pass reads.
+fn encode_sky(
+    gpu: &Gpu,
+    pipes: &Pipelines,
+    gb: &GBuffer,
+    enc: &mut wgpu::CommandEncoder,
+    group: &wgpu::BindGroup,
+    groups: (u32, u32, u32),
+) {
+    let tv = wgpu::BindingResource::TextureView;
+    let sky_out = bind_group(
+        &gpu.device,
+        "sky out",
+        &pipes.sky_out_layout,
+        &[tv(&gb.sky[0]), tv(&gb.sky[1])],
+    );
+    let sky_raw = gpu.device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("sky raw"),
+        layout: &pipes.sky_raw_layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 11,
+                resource: tv(&gb.sky[0]),
+            },
+            wgpu::BindGroupEntry {
+                binding: 12,
+                resource: tv(&gb.sky[1]),
+            },
+        ],
+    });
+    let gather_out = bind_group(
+        &gpu.device,
+        "sky gather out",
+        &pipes.gather_out_layout,
+        &[tv(&gb.sky[2]), tv(&gb.sky[3]), tv(&gb.sky[4])],
+    );
+    {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&pipes.sky);
+        pass.set_bind_group(0, group, &[]);
+        pass.set_bind_group(1, &sky_out, &[]);
+        pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+    }
+    let mut pass = enc.begin_compute_pass(&Default::default());
+    pass.set_pipeline(&pipes.sky_gather);
+    pass.set_bind_group(0, group, &[]);
+    pass.set_bind_group(1, &sky_raw, &[]);
+    pass.set_bind_group(2, &gather_out, &[]);
+    pass.dispatch_workgroups(groups.0, groups.1, groups.2);
+}
+
 /// Group 1 of the lighting pass: the sky pass's outputs, the shafts'
 /// image, the clouds' shadow map, the AO image and the sky's specular term
 /// and weight for the ssr pass.
@@ -530,11 +575,15 @@ fn sky_in_group(
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 2,
-                resource: tv(&gb.sky[0]),
+                resource: tv(&gb.sky[2]),
             },
             wgpu::BindGroupEntry {
                 binding: 3,
-                resource: tv(&gb.sky[1]),
+                resource: tv(&gb.sky[3]),
+            },
+            wgpu::BindGroupEntry {
+                binding: 10,
+                resource: tv(&gb.sky[4]),
             },
             wgpu::BindGroupEntry {
                 binding: 4,

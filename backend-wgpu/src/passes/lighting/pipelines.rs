@@ -47,6 +47,12 @@ pub struct Pipelines {
     pub sky: wgpu::ComputePipeline,
     /// Group 1 of the sky pass: its two outputs as storage textures.
     pub sky_out_layout: wgpu::BindGroupLayout,
+    /// The gather pass (each pixel's block of sets, shade.wgsl `gather`).
+    pub sky_gather: wgpu::ComputePipeline,
+    /// Its group 1: the sky pass's outputs as textures.
+    pub sky_raw_layout: wgpu::BindGroupLayout,
+    /// Its group 2: its three outputs as storage textures.
+    pub gather_out_layout: wgpu::BindGroupLayout,
     /// Group 1 of the lighting pass: the sky pass's outputs as textures.
     pub sky_in_layout: wgpu::BindGroupLayout,
     /// Its group 0 (shade.wgsl's bindings 0–17).
@@ -162,46 +168,7 @@ impl Pipelines {
                 include_str!("../../shaders/lighting/shafts_gather.wgsl")
             ),
         );
-        let c = wgpu::ShaderStages::COMPUTE;
-        let storage = |binding, format| {
-            entry(
-                binding,
-                c,
-                wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                },
-            )
-        };
-        let sky_out_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sky out"),
-            entries: &[
-                storage(0, wgpu::TextureFormat::Rgba32Float),
-                storage(1, wgpu::TextureFormat::R32Float),
-            ],
-        });
-        let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
-        let sky_in_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sky in"),
-            entries: &[
-                entry(2, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
-                entry(3, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
-                entry(4, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
-                entry(8, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
-                entry(5, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
-                entry(
-                    9,
-                    c,
-                    texture(
-                        wgpu::TextureSampleType::Uint,
-                        wgpu::TextureViewDimension::D2,
-                    ),
-                ),
-                storage(6, wgpu::TextureFormat::Rgba32Float),
-                storage(7, wgpu::TextureFormat::Rgba32Float),
-            ],
-        });
+        let [sky_out_layout, gather_out_layout, sky_raw_layout, sky_in_layout] = sky_layouts(dev);
         let (godrays, godrays_layout) = godrays_pipeline(gpu);
         let shade = gpu.compute_pipeline(
             &gpu.pipeline_layout("shade", &[&shade_layout, &sky_in_layout]),
@@ -212,6 +179,14 @@ impl Pipelines {
             &gpu.pipeline_layout("sky", &[&shade_layout, &sky_out_layout]),
             &smod,
             "sky",
+        );
+        let sky_gather = gpu.compute_pipeline(
+            &gpu.pipeline_layout(
+                "sky gather",
+                &[&shade_layout, &sky_raw_layout, &gather_out_layout],
+            ),
+            &smod,
+            "gather",
         );
         let sampler = |label, mode, compare| {
             dev.create_sampler(&wgpu::SamplerDescriptor {
@@ -236,6 +211,9 @@ impl Pipelines {
             shade_layout,
             sky,
             sky_out_layout,
+            sky_gather,
+            sky_raw_layout,
+            gather_out_layout,
             sky_in_layout,
             godrays,
             godrays_layout,
@@ -248,6 +226,77 @@ impl Pipelines {
             ),
         }
     }
+}
+
+/// The layouts of the sky and gather passes' outputs (storage), of the
+/// gather pass's inputs and of the lighting pass's group 1 (shade.wgsl).
+fn sky_layouts(dev: &wgpu::Device) -> [wgpu::BindGroupLayout; 4] {
+    let c = wgpu::ShaderStages::COMPUTE;
+    let storage = |binding, format| {
+        entry(
+            binding,
+            c,
+            wgpu::BindingType::StorageTexture {
+                access: wgpu::StorageTextureAccess::WriteOnly,
+                format,
+                view_dimension: wgpu::TextureViewDimension::D2,
+            },
+        )
+    };
+    let sky_out_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sky out"),
+        entries: &[
+            storage(0, wgpu::TextureFormat::Rgba32Float),
+            storage(1, wgpu::TextureFormat::Rgba32Float),
+        ],
+    });
+    let gather_out_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sky gather out"),
+        entries: &[
+            storage(0, wgpu::TextureFormat::Rgba32Float),
+            storage(1, wgpu::TextureFormat::Rgba32Float),
+            storage(2, wgpu::TextureFormat::R32Float),
+        ],
+    });
+    let unfiltered = wgpu::TextureSampleType::Float { filterable: false };
+    let plain = |binding| {
+        entry(
+            binding,
+            c,
+            texture(unfiltered, wgpu::TextureViewDimension::D2),
+        )
+    };
+    let sky_raw_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sky raw"),
+        entries: &[plain(11), plain(12)],
+    });
+    let sky_in_layout = dev.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("sky in"),
+        entries: &[
+            entry(2, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            entry(3, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            plain(10),
+            entry(4, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            entry(8, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            entry(5, c, texture(unfiltered, wgpu::TextureViewDimension::D2)),
+            entry(
+                9,
+                c,
+                texture(
+                    wgpu::TextureSampleType::Uint,
+                    wgpu::TextureViewDimension::D2,
+                ),
+            ),
+            storage(6, wgpu::TextureFormat::Rgba32Float),
+            storage(7, wgpu::TextureFormat::Rgba32Float),
+        ],
+    });
+    [
+        sky_out_layout,
+        gather_out_layout,
+        sky_raw_layout,
+        sky_in_layout,
+    ]
 }
 
 /// The light shafts' march (`godrays.wgsl`) and its group 0: uniforms,

@@ -50,9 +50,12 @@ pub struct GBuffer {
     pub views: Vec<wgpu::TextureView>,
     /// The depth target (reversed Z).
     pub depth: wgpu::TextureView,
-    /// The sky pass's outputs: irradiance + open fraction (rgba32float),
-    /// specular visibility (r32float).
-    pub sky: [wgpu::TextureView; 2],
+    /// The sky pass's outputs (rgba32float): the interleaved set's
+    /// irradiance + open fraction; the aureoles' irradiance + specular
+    /// visibility. Then the gather pass's: the block's mean of the sets'
+    /// irradiance + their spread; the aureoles' irradiance + the open
+    /// fraction (rgba32float); the specular visibility (r32float).
+    pub sky: [wgpu::TextureView; 5],
 }
 
 impl GBuffer {
@@ -80,11 +83,8 @@ impl GBuffer {
         let depth = texture(gpu, "gbuffer depth", (w, h, 1), d2, DEPTH_FORMAT, usage)
             .create_view(&Default::default());
         let sky_use = wgpu::TextureUsages::STORAGE_BINDING | wgpu::TextureUsages::TEXTURE_BINDING;
-        let sky = [
-            wgpu::TextureFormat::Rgba32Float,
-            wgpu::TextureFormat::R32Float,
-        ]
-        .map(|f| {
+        let rgba = wgpu::TextureFormat::Rgba32Float;
+        let sky = [rgba, rgba, rgba, rgba, wgpu::TextureFormat::R32Float].map(|f| {
             texture(gpu, "sky light", (w, h, 1), d2, f, sky_use).create_view(&Default::default())
         });
         GBuffer {
