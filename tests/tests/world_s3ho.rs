@@ -26,7 +26,7 @@
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{AoSettings, Effect, SkyOcclusion, SkyRenderer, SkyState};
+use himmel_skymodel::{AoSettings, Effect, ShSky, SkyOcclusion, SkyRenderer, SkyState};
 use serde_json::Value;
 use world_common::metrics::{luminance, mask_channel, mean_relative_error, read_exr};
 use world_common::metrics::{RgbImage, SKYLIT};
@@ -96,7 +96,10 @@ fn measure(which: (&str, &str), sh: bool) -> Measured {
     let mut s = world_common::cases::case_scene(&c);
     s.effects.push(Effect::Ao);
     s.lighting.sky.occlusion = SkyOcclusion::Ao;
-    s.lighting.ao = AoSettings { sh, ..settings() };
+    let base = settings();
+    // The scalar run keeps the default weighting (`sh_sky` needs `sh`).
+    let sh_sky = if sh { base.sh_sky } else { ShSky::Radiance };
+    s.lighting.ao = AoSettings { sh, sh_sky, ..base };
     s.lighting.validate().unwrap();
     let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
     let state = SkyState::at(&s).unwrap();

@@ -343,7 +343,8 @@ impl LightingPasses {
             sh: s.sh && !maps,
             ..*s
         };
-        let mut stat = self.ao.run(gpu, gb, cam, &settings, radius)?;
+        let sky = (inputs.env, inputs.env_changed);
+        let mut stat = self.ao.run(gpu, (gb, cam), &settings, radius, sky)?;
         if s.sh && maps {
             let why = stat.reason.take().unwrap_or_default();
             stat.reason = Some(format!(
@@ -410,7 +411,7 @@ impl LightingPasses {
             self.clouds.uniform(),
         );
         let ao_on = inputs.ao && world.bounds.is_some();
-        u.occlusion[1] = self.ao.s3ho(ao_on) as u32;
+        u.occlusion[1] = self.ao.s3ho(ao_on);
         let ubuf = tables.uniforms(gpu, bytemuck::bytes_of(&u));
         let missing = || RenderError::Device("light maps missing".into());
         let shafts_stat = if inputs.godrays {
