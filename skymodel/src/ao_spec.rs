@@ -95,11 +95,13 @@ pub struct AoSettings {
     /// Absent (the default): a fifth of the world's bounding-box diagonal,
     /// within [0.5, 20] m ([`AoSettings::bounce_radius_for`]).
     pub bounce_radius_m: Option<f64>,
-    /// S3HO (`gtao` only): the pass also projects the blocked part of each
-    /// pixel's cosine-weighted visibility, (1 − V(ω)) max(0, n·ω), onto
-    /// spherical harmonics (l ≤ 2, world frame), B_lm, and the lighting
-    /// pass takes Σ L_lm B_lm, with the sky's own radiance coefficients
-    /// L_lm, from the open sky's diffuse light — the sky is shadowed
+    /// S3HO (`gtao` only): the pass also weights the blocked part of each
+    /// pixel's cosine-weighted visibility, (1 − V(ω)) max(0, n·ω), with the
+    /// sky's radiance — by default ([`ShSky::Radiance`]) the radiance itself
+    /// along gtao's blocked arcs, or ([`ShSky::Sh2`]) through spherical
+    /// harmonics (l ≤ 2, world frame: B_lm, then Σ L_lm B_lm with the sky's
+    /// own radiance coefficients L_lm) — and the lighting pass takes that
+    /// light from the open sky's diffuse light: the sky is shadowed
     /// directionally (a blocker in front of the bright side takes more of
     /// the light), where scalar AO takes the same fraction of every side.
     /// Used only with `lighting.sky.occlusion` `ao`. Default false.

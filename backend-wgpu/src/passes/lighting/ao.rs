@@ -30,7 +30,7 @@
 //! side of the sky the maps' ratio is the lower and AO changes nothing,
 //! which is right, as the maps see it directionally.) With
 //! `lighting.sky.occlusion` `ao` no maps are built and the open sky's
-//! irradiance is simply scaled by AO, or with S3HO by the SH occlusion.
+//! irradiance is simply scaled by AO, or with S3HO less the blocked light.
 
 use himmel_skymodel::renderer::PassStat;
 use himmel_skymodel::{AoMethod, AoSettings, RenderError, ShSky};
@@ -110,7 +110,8 @@ pub fn s3ho_mode(s: &AoSettings) -> u32 {
 }
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// S3HO's B_1,-1 … B_2,2 as f16 pairs.
+/// S3HO's B_1,-1 … B_2,2 as f16 pairs (`sh2`), or the blocked light's
+/// red, green and blue as f32 (`radiance`).
 const SH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 fn sh_image(gpu: &Gpu, size: (u32, u32)) -> wgpu::TextureView {

@@ -335,7 +335,7 @@ impl LightingPasses {
         };
         let s = &inputs.scene.lighting.ao;
         let radius = s.radius_for(bounds.extent() as f64) as f32;
-        // S3HO only without the visibility maps: with them its SH estimate
+        // S3HO only without the visibility maps: with them its estimate
         // would replace their exact directional shadow wherever it finds
         // less light (README, S3HO).
         let maps = inputs.scene.lighting.sky.occlusion == himmel_skymodel::SkyOcclusion::Maps;

@@ -32,9 +32,11 @@
 //   maps' visibility and AO (passes/lighting/ao.rs); never the Sun or Moon.
 //   With `lighting.sky.occlusion` `ao` the cells are open (no maps) and
 //   E = E_open × AO, or with S3HO (`lighting.ao.sh`, only then) E_open
-//   less the light the pixel's blockers take, Σ L_lm B_lm: the sky's
-//   radiance coefficients weighted by the blocked part of the pixel's
-//   cosine-weighted visibility (`s3ho_blocked`).
+//   less the light the pixel's blockers take (`s3ho_blocked`): the ao
+//   pass's integral of the sky's radiance over the blocked directions
+//   (`sh_sky` `radiance`), or Σ L_lm B_lm, the sky's radiance
+//   coefficients weighted by the blocked part of the pixel's
+//   cosine-weighted visibility (`sh2`).
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
