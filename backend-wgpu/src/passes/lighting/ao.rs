@@ -259,6 +259,10 @@ impl Occlusion {
         if load || self.sky_map.is_none() {
             self.sky_map = Some(sky_map(gpu, sky.0.filter(|_| load)));
             self.sky_loaded = load;
+        } else if sky.1 {
+            // A sky that changed while S3HO did not read it: load it when
+            // it does.
+            self.sky_loaded = false;
         }
         let Some(sky_view) = self.sky_map.as_ref() else {
             return Err(RenderError::Device("ao sky map missing".into()));
