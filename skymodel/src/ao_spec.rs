@@ -38,6 +38,25 @@ pub enum AoMethod {
     Hbao,
 }
 
+/// What S3HO weights the blocked part of a pixel's cosine-weighted
+/// visibility with (`lighting.ao.sh_sky`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum ShSky {
+    /// The sky's radiance itself (the default): along each slice's
+    /// blocked arcs the pass reads the frame's sky radiance map (the
+    /// environment's narrowest prefiltered level) and integrates the
+    /// light those directions would have sent, cosine-weighted —
+    /// directional occlusion, which follows the low Sun's aureole and
+    /// reduces exactly to scalar AO under a uniform sky.
+    Radiance,
+    /// The order-2 spherical-harmonic projection (the seed's S3HO): the
+    /// blocked visibility's coefficients B_lm, weighted in the lighting
+    /// pass with the sky radiance's own nine L_lm. Smooth, but it spreads
+    /// a low Sun's aureole over the whole side of the sky.
+    Sh2,
+}
+
 /// Ambient occlusion (`lighting.ao`; runs with `--effects ao`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields, default)]
@@ -76,15 +95,20 @@ pub struct AoSettings {
     /// Absent (the default): a fifth of the world's bounding-box diagonal,
     /// within [0.5, 20] m ([`AoSettings::bounce_radius_for`]).
     pub bounce_radius_m: Option<f64>,
-    /// S3HO (`gtao` only): the pass also projects the blocked part of each
-    /// pixel's cosine-weighted visibility, (1 − V(ω)) max(0, n·ω), onto
-    /// spherical harmonics (l ≤ 2, world frame), B_lm, and the lighting
-    /// pass takes Σ L_lm B_lm, with the sky's own radiance coefficients
-    /// L_lm, from the open sky's diffuse light — the sky is shadowed
+    /// S3HO (`gtao` only): the pass also weights the blocked part of each
+    /// pixel's cosine-weighted visibility, (1 − V(ω)) max(0, n·ω), with the
+    /// sky's radiance — by default ([`ShSky::Radiance`]) the radiance itself
+    /// along gtao's blocked arcs, or ([`ShSky::Sh2`]) through spherical
+    /// harmonics (l ≤ 2, world frame: B_lm, then Σ L_lm B_lm with the sky's
+    /// own radiance coefficients L_lm) — and the lighting pass takes that
+    /// light from the open sky's diffuse light: the sky is shadowed
     /// directionally (a blocker in front of the bright side takes more of
     /// the light), where scalar AO takes the same fraction of every side.
     /// Used only with `lighting.sky.occlusion` `ao`. Default false.
     pub sh: bool,
+    /// S3HO's weighting of the blocked visibility ([`ShSky`]): `radiance`
+    /// (default) or `sh2`. Only with `sh`.
+    pub sh_sky: ShSky,
     /// `gtao`'s visibility bitmask (Therrien, Levesque & Gilet 2023):
     /// metres, in [0.01, 100], that each surface the G-buffer shows is
     /// taken to be thick. A slice's half-disk is cut into 32 sectors and a
@@ -109,6 +133,7 @@ impl Default for AoSettings {
             bounce_steps: 12,
             bounce_radius_m: None,
             sh: false,
+            sh_sky: ShSky::Radiance,
             thickness_m: None,
         }
     }
@@ -161,6 +186,12 @@ impl AoSettings {
             return Err(SceneError::new(
                 "lighting.ao.sh",
                 "S3HO integrates gtao's horizons: it needs method gtao",
+            ));
+        }
+        if self.sh_sky != ShSky::Radiance && !self.sh {
+            return Err(SceneError::new(
+                "lighting.ao.sh_sky",
+                "it chooses S3HO's weighting: it needs lighting.ao.sh true",
             ));
         }
         Ok(())
@@ -247,6 +278,12 @@ mod tests {
             ..c
         };
         assert_eq!(d.validate().unwrap_err().field, "lighting.ao.sh");
+        assert_eq!(c.sh_sky, ShSky::Radiance);
+        let e: AoSettings = serde_json::from_str(r#"{"sh": true, "sh_sky": "sh2"}"#).unwrap();
+        assert!(e.sh_sky == ShSky::Sh2 && e.validate().is_ok());
+        let f = AoSettings { sh: false, ..e };
+        assert_eq!(f.validate().unwrap_err().field, "lighting.ao.sh_sky");
+        assert!(serde_json::from_str::<AoSettings>(r#"{"sh": true, "sh_sky": "sh3"}"#).is_err());
         let t: AoSettings = serde_json::from_str(r#"{"thickness_m": 0.5}"#).unwrap();
         assert!(t.thickness_m == Some(0.5) && t.validate().is_ok());
         for bad in [

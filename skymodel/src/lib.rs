@@ -81,7 +81,7 @@ pub mod texture_spec;
 pub mod units;
 pub mod world_spec;
 
-pub use ao_spec::{AoMethod, AoSettings};
+pub use ao_spec::{AoMethod, AoSettings, ShSky};
 pub use camera::Exposure;
 pub use frame::{FramePlan, LutOrigin, LutStore};
 pub use plan::{PlannedPass, SkipReason};

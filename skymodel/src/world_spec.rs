@@ -570,6 +570,7 @@ mod tests {
         let t = serde_json::to_value(LightingSpec::default()).unwrap();
         assert_eq!(t["sky"]["occlusion"], "maps");
         assert_eq!(t["ao"]["sh"], false);
+        assert_eq!(t["ao"]["sh_sky"], "radiance");
     }
 
     /// ∫ p dΩ over the sphere by the midpoint rule in cos θ (1e5 bands).

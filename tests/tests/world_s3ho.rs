@@ -1,10 +1,12 @@
 //! S3HO against scalar AO (issue 16): the sky's diffuse light occluded by
 //! the ao pass alone (`lighting.sky.occlusion` `ao`: no visibility maps),
-//! once by `gtao`'s scalar AO and once by its SH projection (S3HO,
-//! `lighting.ao.sh`), compared with Mitsuba's `max_depth` 2 reference of
-//! the same case (`tests/fixtures/world_ref/`, `tools/world_reference.py`)
-//! on its sky-lit-only pixels (in the Sun's shadow or facing away from it,
-//! whole pixels on one plane): the luminance-weighted mean relative error
+//! once by `gtao`'s scalar AO and twice with S3HO (`lighting.ao.sh`): its
+//! default weighting, the blocked arcs integrated against the sky's
+//! radiance (`sh_sky` `radiance`), and the order-2 SH projection (`sh2`),
+//! each compared with Mitsuba's `max_depth` 2 reference of the same case
+//! (`tests/fixtures/world_ref/`, `tools/world_reference.py`) on its
+//! sky-lit-only pixels (in the Sun's shadow or facing away from it, whole
+//! pixels on one plane): the luminance-weighted mean relative error
 //! Σ|ΔY| / ΣY_ref, as `world_mitsuba` measures it.
 //!
 //! The cases lie under the low winter Sun (10°, from the south), whose sky
@@ -12,21 +14,23 @@
 //! against a darker north): the atrium from above and towards the wall
 //! that hides the Sun — its shadowed floor sees the bright side over the
 //! walls only, so a scalar AO, which takes the same fraction of every side
-//! of the sky, gives it too much light — and the plane with boxes. The
-//! issue's goal, S3HO's error ≤ 0.7 × scalar AO's, is asserted where this
-//! version meets it (the two atrium views); each ratio and error is also
-//! bounded a little above what this version measures, so that a change
-//! for the worse fails; and S3HO must leave open pixels (AO 1) alone.
+//! of the sky, gives it too much light — and the plane with boxes, whose
+//! shadowed ground loses mostly the aureole behind each box. The issue's
+//! goal, S3HO's error ≤ 0.7 × scalar AO's, is asserted for `radiance` in
+//! every case; `sh2` (which meets it on the atrium views only) is bounded
+//! at its measured ratio; each error is also bounded a little above what
+//! this version measures, so that a change for the worse fails; and S3HO
+//! must leave open pixels (AO 1) alone.
 //!
 //! `cargo test -p himmel-tests --test world_s3ho -- --nocapture` prints the
 //! figures the README quotes; `HIMMEL_S3HO='{"radius_m": 6}'` (a
-//! `lighting.ao` object; `sh` is set by the test) measures other settings
-//! (printed, not asserted).
+//! `lighting.ao` object; `sh` and `sh_sky` are set by the test) measures
+//! other settings (printed, not asserted).
 
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{AoSettings, Effect, SkyOcclusion, SkyRenderer, SkyState};
+use himmel_skymodel::{AoSettings, Effect, ShSky, SkyOcclusion, SkyRenderer, SkyState};
 use serde_json::Value;
 use world_common::metrics::{luminance, mask_channel, mean_relative_error, read_exr};
 use world_common::metrics::{RgbImage, SKYLIT};
@@ -90,13 +94,28 @@ struct Measured {
     bent: Vec<[f32; 3]>,
 }
 
-fn measure(which: (&str, &str), sh: bool) -> Measured {
+/// A run's name: `scalar`, `radiance` or `sh2`.
+fn label(sh: Option<ShSky>) -> &'static str {
+    match sh {
+        None => "scalar",
+        Some(ShSky::Radiance) => "radiance",
+        Some(ShSky::Sh2) => "sh2",
+    }
+}
+
+/// One render of a case: scalar AO (`None`) or S3HO with this weighting.
+fn measure(which: (&str, &str), sh: Option<ShSky>) -> Measured {
     let c = case(which);
     let name = which.0;
     let mut s = world_common::cases::case_scene(&c);
     s.effects.push(Effect::Ao);
     s.lighting.sky.occlusion = SkyOcclusion::Ao;
-    s.lighting.ao = AoSettings { sh, ..settings() };
+    // The scalar run keeps the default weighting (`sh_sky` needs `sh`).
+    s.lighting.ao = AoSettings {
+        sh: sh.is_some(),
+        sh_sky: sh.unwrap_or(ShSky::Radiance),
+        ..settings()
+    };
     s.lighting.validate().unwrap();
     let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
     let state = SkyState::at(&s).unwrap();
@@ -117,7 +136,7 @@ fn measure(which: (&str, &str), sh: bool) -> Measured {
     );
     assert!(maps.reason.as_deref().unwrap().contains("occlusion is ao"));
     if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
-        let p = std::path::Path::new(&d).join(format!("{name}_s3ho_{sh}.exr"));
+        let p = std::path::Path::new(&d).join(format!("{name}_{}.exr", label(sh)));
         himmel_cpu::output::write_exr(&p, &out.image).unwrap();
     }
     let img = RgbImage {
@@ -163,40 +182,60 @@ fn open_change(scalar: &Measured, s3ho: &Measured) -> (usize, f64) {
 #[test]
 fn s3ho_beats_scalar_ao_under_a_low_sun() {
     println!("Sky light occluded by the ao pass alone; sky-lit pixels vs Mitsuba:");
-    println!("| case | scalar AO | S3HO | S3HO / scalar | ao ms (scalar, S3HO) |");
-    println!("|---|---|---|---|---|");
+    println!(
+        "| case | scalar AO | S3HO radiance | ratio | S3HO sh2 | ratio | ao ms (scalar, radiance, sh2) |"
+    );
+    println!("|---|---|---|---|---|---|---|");
     let mut failures = Vec::new();
     // The open pixels seen in all cases (the atrium's roofs and wall tops
     // from above, mostly).
     let mut open_pixels = 0;
     for (k, which) in CASES.into_iter().enumerate() {
-        let (a, b) = (measure(which, false), measure(which, true));
-        let (scalar, scalar_ms, s3ho, s3ho_ms) = (a.err, a.ao_ms, b.err, b.ao_ms);
-        let (open, change) = open_change(&a, &b);
+        let scalar = measure(which, None);
+        let runs = [ShSky::Radiance, ShSky::Sh2].map(|m| measure(which, Some(m)));
+        for (m, run) in [ShSky::Radiance, ShSky::Sh2].into_iter().zip(&runs) {
+            let (open, change) = open_change(&scalar, run);
+            println!(
+                "{} ({}): {open} open pixels (AO 1), S3HO changes them by ≤ {:.3} %",
+                which.0,
+                label(Some(m)),
+                change * 100.0
+            );
+            if m == ShSky::Radiance {
+                open_pixels += open;
+            }
+            if change > OPEN_CHANGE {
+                failures.push(format!(
+                    "{} ({}): {open} open pixels changed by {change:.5} (≤ {OPEN_CHANGE})",
+                    which.0,
+                    label(Some(m))
+                ));
+            }
+        }
+        let [radiance, sh2] = [runs[0].err, runs[1].err];
         println!(
-            "{}: {open} open pixels (AO 1), S3HO changes them by ≤ {:.3} %",
+            "| {} | {:.2} % | {:.2} % | {:.3} | {:.2} % | {:.3} | {:.0}, {:.0}, {:.0} |",
             which.0,
-            change * 100.0
+            scalar.err * 100.0,
+            radiance * 100.0,
+            radiance / scalar.err,
+            sh2 * 100.0,
+            sh2 / scalar.err,
+            scalar.ao_ms,
+            runs[0].ao_ms,
+            runs[1].ao_ms
         );
-        open_pixels += open;
-        if change > OPEN_CHANGE {
+        let b = &BOUNDS[k];
+        if radiance > GOAL * scalar.err || scalar.err > b.scalar || radiance > b.radiance {
             failures.push(format!(
-                "{}: {open} open pixels changed by {change:.5} (≤ {OPEN_CHANGE})",
-                which.0
+                "{}: S3HO radiance {radiance:.4} (≤ {GOAL} × scalar, ≤ {}), scalar {:.4} (≤ {})",
+                which.0, b.radiance, scalar.err, b.scalar
             ));
         }
-        println!(
-            "| {} | {:.2} % | {:.2} % | {:.3} | {scalar_ms:.0}, {s3ho_ms:.0} |",
-            which.0,
-            scalar * 100.0,
-            s3ho * 100.0,
-            s3ho / scalar
-        );
-        let (goal, scalar_bound, s3ho_bound) = BOUNDS[k];
-        if s3ho > goal * scalar || scalar > scalar_bound || s3ho > s3ho_bound {
+        if sh2 > b.sh2_ratio * scalar.err || sh2 > b.sh2 {
             failures.push(format!(
-                "{}: S3HO {s3ho:.4} (≤ {goal} × scalar, ≤ {s3ho_bound}), scalar {scalar:.4} (≤ {scalar_bound})",
-                which.0
+                "{}: S3HO sh2 {sh2:.4} (≤ {} × scalar, ≤ {})",
+                which.0, b.sh2_ratio, b.sh2
             ));
         }
     }
@@ -209,18 +248,45 @@ fn s3ho_beats_scalar_ao_under_a_low_sun() {
 }
 
 /// The largest relative change S3HO may make to an open pixel's luminance
-/// (measured ≤ 0.003 %: the f16 coefficients).
+/// (measured ≤ 0.003 %: `sh2`'s f16 coefficients, or the blur's reach into
+/// partly blocked neighbours).
 const OPEN_CHANGE: f64 = 1e-3;
 
-/// Per case: the largest S3HO / scalar ratio (the issue's 0.7 where this
-/// version meets it, else what it measures plus about 0.04), and the
-/// bounds of the scalar and S3HO errors: what this version measures
-/// (lavapipe) plus half a percentage point.
-const BOUNDS: [(f64, f64, f64); 3] = [
-    // Measured 0.7245, 0.4562 (ratio 0.630).
-    (0.7, 0.73, 0.461),
-    // Measured 1.1328, 0.7872 (ratio 0.695).
-    (0.7, 1.138, 0.792),
-    // Measured 0.2400, 0.1924 (ratio 0.801).
-    (0.84, 0.245, 0.1975),
+/// The issue's goal: S3HO's error ≤ 0.7 × scalar AO's.
+const GOAL: f64 = 0.7;
+
+/// A case's bounds: the scalar, `radiance` and `sh2` errors at what this
+/// version measures (lavapipe) plus half a percentage point, and the
+/// largest `sh2` / scalar ratio (the issue's 0.7 where `sh2` meets it, else
+/// what it measures plus about 0.04). `radiance` must meet [`GOAL`]
+/// everywhere.
+struct Bounds {
+    scalar: f64,
+    radiance: f64,
+    sh2: f64,
+    sh2_ratio: f64,
+}
+
+const BOUNDS: [Bounds; 3] = [
+    // Measured 0.7245; radiance 0.2847 (0.393); sh2 0.4562 (0.630).
+    Bounds {
+        scalar: 0.73,
+        radiance: 0.29,
+        sh2: 0.461,
+        sh2_ratio: 0.7,
+    },
+    // Measured 1.1328; radiance 0.6978 (0.616); sh2 0.7872 (0.695).
+    Bounds {
+        scalar: 1.138,
+        radiance: 0.703,
+        sh2: 0.792,
+        sh2_ratio: 0.7,
+    },
+    // Measured 0.2400; radiance 0.1474 (0.614); sh2 0.1924 (0.801).
+    Bounds {
+        scalar: 0.245,
+        radiance: 0.1525,
+        sh2: 0.1975,
+        sh2_ratio: 0.84,
+    },
 ];

@@ -2,10 +2,15 @@
 //! G-buffer's distance and normal (`shaders/lighting/ao.wgsl`), then a
 //! depth-aware blur; the result (bent normal + AO, rgba32float) is what the
 //! lighting pass reads and [`Occlusion::read_back`] returns. With S3HO
-//! (`lighting.ao.sh`), a second image holds the projection of the blocked
-//! part of the cosine-weighted visibility onto the SH of l = 1, 2
-//! (`ao.wgsl`), which the lighting pass weights with the sky's own
-//! radiance coefficients: the sky is shadowed directionally.
+//! (`lighting.ao.sh`), a second image holds the light the pixel's blockers
+//! hide: by default (`sh_sky` `radiance`) the blocked arcs of gtao's
+//! slices weighted by the sky's radiance itself, read from a 64 × 32
+//! equirect radiance map (the environment's narrowest prefiltered level,
+//! uploaded here when the sky changes) — directional occlusion — or
+//! (`sh2`) the projection of the blocked part of the cosine-weighted
+//! visibility onto the SH of l = 1, 2, which the lighting pass weights with
+//! the sky's own radiance coefficients (`ao.wgsl`). Either way the sky is
+//! shadowed directionally and an open pixel keeps its light exactly.
 //!
 //! **How AO meets the sky's visibility maps.** The sky light already comes
 //! through the world's visibility maps (one per sky cell,
@@ -25,11 +30,12 @@
 //! side of the sky the maps' ratio is the lower and AO changes nothing,
 //! which is right, as the maps see it directionally.) With
 //! `lighting.sky.occlusion` `ao` no maps are built and the open sky's
-//! irradiance is simply scaled by AO, or with S3HO by the SH occlusion.
+//! irradiance is simply scaled by AO, or with S3HO less the blocked light.
 
 use himmel_skymodel::renderer::PassStat;
-use himmel_skymodel::{AoMethod, AoSettings, RenderError};
+use himmel_skymodel::{AoMethod, AoSettings, RenderError, ShSky};
 
+use super::env::{EnvLight, SPECULAR_SIZE};
 use super::resources::{texture, GBuffer};
 use super::view::{CameraBlock, WorldCamera};
 use crate::gpu::{bind, bind_group, Gpu};
@@ -83,12 +89,29 @@ pub struct Occlusion {
     images: Option<Images>,
     stand_in: Option<wgpu::TextureView>,
     sh_stand_in: Option<wgpu::TextureView>,
+    /// S3HO `radiance`'s sky radiance map (level 0 of the prefiltered
+    /// environment, f32), or a 1 × 1 black stand-in before a sky came.
+    sky_map: Option<wgpu::TextureView>,
+    /// Whether `sky_map` holds a sky (not the stand-in).
+    sky_loaded: bool,
     radius_m: f32,
-    sh: bool,
+    /// The last run's S3HO ([`s3ho_mode`]).
+    sh: u32,
+}
+
+/// S3HO's mode in the uniforms: 0 off, 1 `sh2`, 2 `radiance` (`gtao`
+/// only).
+pub fn s3ho_mode(s: &AoSettings) -> u32 {
+    match (s.sh && s.method == AoMethod::Gtao, s.sh_sky) {
+        (false, _) => 0,
+        (true, ShSky::Sh2) => 1,
+        (true, ShSky::Radiance) => 2,
+    }
 }
 
 const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
-/// S3HO's B_1,-1 … B_2,2 as f16 pairs.
+/// S3HO's B_1,-1 … B_2,2 as f16 pairs (`sh2`), or the blocked light's
+/// red, green and blue as f32 (`radiance`).
 const SH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Uint;
 
 fn sh_image(gpu: &Gpu, size: (u32, u32)) -> wgpu::TextureView {
@@ -127,6 +150,7 @@ fn pipes(gpu: &Gpu) -> AoPipes {
             f,
             bind::write_2d(SH_FORMAT),
             bind::uint_2d(),
+            f,
         ],
     );
     let module = gpu.shader(
@@ -164,31 +188,85 @@ fn uniforms(cam: &WorldCamera, s: &AoSettings, radius_m: f32) -> AoUniforms {
             s.steps.max(1),
             s.samples.max(1),
         ],
-        q2: [
-            s.blur_px,
-            cam.frame,
-            (s.sh && s.method == AoMethod::Gtao) as u32,
-            0,
-        ],
+        q2: [s.blur_px, cam.frame, s3ho_mode(s), 0],
     }
+}
+
+/// The sky radiance map of S3HO `radiance`: `SPECULAR_SIZE` texels of
+/// `env`'s narrowest prefiltered level (its first), or a black texel.
+fn sky_map(gpu: &Gpu, env: Option<&EnvLight>) -> wgpu::TextureView {
+    let (w, h) = SPECULAR_SIZE;
+    let texels: Vec<[f32; 4]> = match env {
+        Some(e) if e.specular.len() >= w * h => e.specular[..w * h]
+            .iter()
+            .map(|l| [l[0], l[1], l[2], 1.0])
+            .collect(),
+        _ => vec![[0.0; 4]],
+    };
+    let size = if texels.len() == 1 {
+        (1, 1)
+    } else {
+        (w as u32, h as u32)
+    };
+    let usage = wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST;
+    let t = texture(
+        gpu,
+        "ao sky",
+        (size.0, size.1, 1),
+        wgpu::TextureDimension::D2,
+        FORMAT,
+        usage,
+    );
+    gpu.queue.write_texture(
+        t.as_image_copy(),
+        bytemuck::cast_slice(&texels),
+        wgpu::TexelCopyBufferLayout {
+            offset: 0,
+            bytes_per_row: Some(16 * size.0),
+            rows_per_image: Some(size.1),
+        },
+        wgpu::Extent3d {
+            width: size.0,
+            height: size.1,
+            depth_or_array_layers: 1,
+        },
+    );
+    t.create_view(&Default::default())
 }
 
 impl Occlusion {
     /// Runs the pass over the G-buffer `gb` of `cam` (occlusion, then the
-    /// blur) and waits for the device. Returns its `--stats` entry.
+    /// blur) and waits for the device; S3HO `radiance` reads the radiance
+    /// of `sky` (the frame's environment light; uploaded again when
+    /// `sky.1`, it changed). Returns its `--stats` entry.
     pub fn run(
         &mut self,
         gpu: &Gpu,
-        gb: &GBuffer,
-        cam: &WorldCamera,
+        (gb, cam): (&GBuffer, &WorldCamera),
         settings: &AoSettings,
         radius_m: f32,
+        sky: (Option<&EnvLight>, bool),
     ) -> Result<PassStat, RenderError> {
         // The pipelines once per renderer, outside the pass's time.
         let pipes = self.pipes.get_or_insert_with(|| pipes(gpu));
         let t = std::time::Instant::now();
         let size = (cam.width, cam.height);
-        let sh = settings.sh && settings.method == AoMethod::Gtao;
+        let mode = s3ho_mode(settings);
+        let sh = mode != 0;
+        // The radiance map when S3HO reads it and the sky changed (or it
+        // holds none yet); else what there is, or a stand-in.
+        let load = mode == 2 && sky.0.is_some() && (sky.1 || !self.sky_loaded);
+        if load || self.sky_map.is_none() {
+            self.sky_map = Some(sky_map(gpu, sky.0.filter(|_| load)));
+            self.sky_loaded = load;
+        } else if sky.1 {
+            // A sky that changed while S3HO did not read it: load it when
+            // it does.
+            self.sky_loaded = false;
+        }
+        let Some(sky_view) = self.sky_map.as_ref() else {
+            return Err(RenderError::Device("ao sky map missing".into()));
+        };
         if self.images.as_ref().map(|i| (i.size, i.sh)) != Some((size, sh)) {
             let out = image(gpu, size, true);
             let sh_size = if sh { size } else { (1, 1) };
@@ -229,6 +307,7 @@ impl Occlusion {
                     tv(input),
                     tv(sh_out),
                     tv(sh_in),
+                    tv(sky_view),
                 ],
             )
         };
@@ -245,10 +324,11 @@ impl Occlusion {
         gpu.queue.submit([enc.finish()]);
         gpu.wait()?;
         self.radius_m = radius_m;
-        self.sh = sh;
+        self.sh = mode;
         let method = match settings.method {
             AoMethod::Ssao => "ssao",
-            AoMethod::Gtao if sh => "gtao + S3HO",
+            AoMethod::Gtao if mode == 2 => "gtao + S3HO (sky radiance)",
+            AoMethod::Gtao if sh => "gtao + S3HO (order-2 SH)",
             AoMethod::Gtao => "gtao",
             AoMethod::Hbao => "hbao",
         };
@@ -263,10 +343,14 @@ impl Occlusion {
         })
     }
 
-    /// Whether the lighting pass gets the S3HO image (the pass runs, `on`,
-    /// and its last run made one).
-    pub fn s3ho(&self, on: bool) -> bool {
-        on && self.sh && self.images.is_some()
+    /// The S3HO image's mode for the lighting pass ([`s3ho_mode`]; 0
+    /// unless the pass runs, `on`, and its last run made one).
+    pub fn s3ho(&self, on: bool) -> u32 {
+        if on && self.images.is_some() {
+            self.sh
+        } else {
+            0
+        }
     }
 
     /// The AO image and the S3HO image of the last run, or (`on` false, or
@@ -297,7 +381,7 @@ impl Occlusion {
             .sh_stand_in
             .get_or_insert_with(|| sh_image(gpu, (1, 1)));
         match self.images.as_ref().filter(|_| on) {
-            Some(i) if self.sh => [&i.out_view, &i.sh_out],
+            Some(i) if self.sh != 0 => [&i.out_view, &i.sh_out],
             Some(i) => [&i.out_view, sh_stand_in],
             None => [stand_in, sh_stand_in],
         }
@@ -348,7 +432,12 @@ mod tests {
             sh: true,
             ..AoSettings::default()
         };
-        assert_eq!(uniforms(&cam, &sh, 2.0).q2[2], 1);
+        assert_eq!(uniforms(&cam, &sh, 2.0).q2[2], 2);
+        let sh2 = AoSettings {
+            sh_sky: ShSky::Sh2,
+            ..sh
+        };
+        assert_eq!(uniforms(&cam, &sh2, 2.0).q2[2], 1);
         assert_eq!(uniforms(&cam, &AoSettings { sh: true, ..s }, 2.0).q2[2], 0);
         assert_eq!(std::mem::size_of::<AoUniforms>(), 7 * 16);
     }

@@ -337,7 +337,7 @@ impl LightingPasses {
         };
         let s = &inputs.scene.lighting.ao;
         let radius = s.radius_for(bounds.extent() as f64) as f32;
-        // S3HO only without the visibility maps: with them its SH estimate
+        // S3HO only without the visibility maps: with them its estimate
         // would replace their exact directional shadow wherever it finds
         // less light (README, S3HO).
         let maps = inputs.scene.lighting.sky.occlusion == himmel_skymodel::SkyOcclusion::Maps;
@@ -345,7 +345,8 @@ impl LightingPasses {
             sh: s.sh && !maps,
             ..*s
         };
-        let mut stat = self.ao.run(gpu, gb, cam, &settings, radius)?;
+        let sky = (inputs.env, inputs.env_changed);
+        let mut stat = self.ao.run(gpu, (gb, cam), &settings, radius, sky)?;
         if s.sh && maps {
             let why = stat.reason.take().unwrap_or_default();
             stat.reason = Some(format!(
@@ -412,7 +413,7 @@ impl LightingPasses {
             self.clouds.uniform(),
         );
         let ao_on = inputs.ao && world.bounds.is_some();
-        u.occlusion[1] = self.ao.s3ho(ao_on) as u32;
+        u.occlusion[1] = self.ao.s3ho(ao_on);
         let ubuf = tables.uniforms(gpu, bytemuck::bytes_of(&u));
         let missing = || RenderError::Device("light maps missing".into());
         let shafts_stat = if inputs.godrays {

@@ -47,8 +47,22 @@
 //   slices. B_00 = Y_00 π (1 − A) follows from A; the other eight go out
 //   as f16 pairs (rgba32uint), and the lighting pass takes Σ L_lm B_lm,
 //   with the sky's radiance coefficients L_lm, from the open sky's light.
+//   That is S3HO's `sh_sky` `sh2`. With `radiance` (the default) the
+//   blocked arcs are weighted by the sky's radiance itself instead of its
+//   nine coefficients (directional occlusion): the light the blockers hide,
+//     E_b = ∫_Ω (1 − V_R(ω)) max(0, n·ω) L(ω) dω,
+//   per slice and side the arc's exact cosine-weighted measure (gtao's
+//   â differences) × the arc's mean radiance under the same weight (the
+//   midpoint rule, 8 points, each a bilinear read of the sky's radiance
+//   map: the environment's narrowest prefiltered level, 64 × 32
+//   equirect), normalised like A. Under a uniform sky L it is exactly
+//   π L (1 − A), scalar AO's; under a low Sun it takes the aureole where
+//   the blockers stand, which order 2 spreads over the whole side of the
+//   sky. E_b goes out as three f32 (rgba32uint), and the lighting pass
+//   takes it from the open sky's light. The bitmask's set sectors do the
+//   same with one point each.
 // Output: rgba32float, xyz the bent normal (world frame), w = A; sky pixels
-// (0, 0, 0, 1); with S3HO, B_1m..B_2m packed.
+// (0, 0, 0, 1); with S3HO, B_1m..B_2m packed (or E_b).
 
 struct Ao {
     // xyz: eye; w: tan(fov / 2).
@@ -64,8 +78,8 @@ struct Ao {
     params: vec4<f32>,
     // Method (0 ssao, 1 gtao, 2 hbao: ao_hbao.wgsl), slices, steps, samples.
     q: vec4<u32>,
-    // Blur half side (px), the frame's index in a temporal run, 1 with
-    // S3HO, 0.
+    // Blur half side (px), the frame's index in a temporal run, S3HO (0
+    // off, 1 `sh2`, 2 `radiance`), 0.
     q2: vec4<u32>,
 }
 
@@ -78,8 +92,12 @@ struct Ao {
 // S3HO: B_1,-1 … B_2,2 as f16 pairs (1 × 1 stand-ins without it).
 @group(0) @binding(6) var sh_out: texture_storage_2d<rgba32uint, write>;
 @group(0) @binding(7) var sh_in: texture_2d<u32>;
+// S3HO `radiance`: the sky's radiance, equirect (column: azimuth from
+// North through East; row 0 the zenith), cd/m²; 1 × 1 without it.
+@group(0) @binding(8) var sky_map: texture_2d<f32>;
 
-// The slices' sum of B_1,-1 … B_2,2 (unnormalised), gtao's by-product.
+// The slices' sum of B_1,-1 … B_2,2 (unnormalised), gtao's by-product; with
+// S3HO `radiance`, E_b (rgb) in the first three.
 var<private> sh_sum: array<f32, 8>;
 
 const PI: f32 = 3.14159265358979;
@@ -144,13 +162,82 @@ fn sh8(d: vec3<f32>) -> array<f32, 8> {
 }
 
 fn sh_on() -> bool {
-    return a.q2.z == 1u;
+    return a.q2.z != 0u;
 }
 
-// B_1,-1 … B_2,2 packed as f16 pairs.
+// S3HO weights the blocked arcs by the sky's radiance (`sh_sky` `radiance`).
+fn radiance_on() -> bool {
+    return a.q2.z == 2u;
+}
+
+// B_1,-1 … B_2,2 packed as f16 pairs, or E_b as three f32.
 fn pack_sh(t: array<f32, 8>) -> vec4<u32> {
+    if radiance_on() {
+        return vec4<u32>(bitcast<u32>(t[0]), bitcast<u32>(t[1]), bitcast<u32>(t[2]), 0u);
+    }
     return vec4<u32>(pack2x16float(vec2<f32>(t[0], t[1])), pack2x16float(vec2<f32>(t[2], t[3])),
         pack2x16float(vec2<f32>(t[4], t[5])), pack2x16float(vec2<f32>(t[6], t[7])));
+}
+
+// Adds what pack_sh packed into sh_sum.
+fn add_packed(t: vec4<u32>) {
+    if radiance_on() {
+        for (var i = 0u; i < 3u; i++) {
+            sh_sum[i] += bitcast<f32>(t[i]);
+        }
+        return;
+    }
+    for (var i = 0u; i < 4u; i++) {
+        let h = unpack2x16float(t[i]);
+        sh_sum[2u * i] += h.x;
+        sh_sum[2u * i + 1u] += h.y;
+    }
+}
+
+// The sky's radiance towards unit d (world frame): bilinear in the
+// equirect map, wrapping in azimuth.
+fn sky_radiance(d: vec3<f32>) -> vec3<f32> {
+    let dims = vec2<i32>(textureDimensions(sky_map));
+    let az = atan2(d.x, -d.z) / (2.0 * PI);
+    let uv = vec2<f32>(az - floor(az), acos(clamp(d.y, -1.0, 1.0)) / PI);
+    let t = uv * vec2<f32>(dims) - 0.5;
+    let t0 = floor(t);
+    let f = t - t0;
+    var out = vec3<f32>(0.0);
+    for (var c = 0; c < 4; c++) {
+        let o = vec2<i32>(c & 1, c >> 1u);
+        let x = (i32(t0.x) + o.x + dims.x) % dims.x;
+        let y = clamp(i32(t0.y) + o.y, 0, dims.y - 1);
+        let w = mix(1.0 - f.x, f.x, f32(o.x)) * mix(1.0 - f.y, f.y, f32(o.y));
+        out += textureLoad(sky_map, vec2<i32>(x, y), 0).rgb * w;
+    }
+    return out;
+}
+
+// S3HO `radiance`: adds a blocked arc [lo, hi] of a slice to E_b — its
+// exact cosine-weighted measure `meas` (× |n_p|) times its mean radiance
+// under the same weight (midpoint rule).
+fn add_radiance_arc(lo: f32, hi: f32, meas: f32, v: vec3<f32>, sl: Slice) {
+    if meas <= 0.0 || hi <= lo {
+        return;
+    }
+    let n = BENT_POINTS / 2u;
+    let ds = (hi - lo) / f32(n);
+    var acc = vec3<f32>(0.0);
+    var wsum = 0.0;
+    for (var i = 0u; i < n; i++) {
+        let th = lo + (f32(i) + 0.5) * ds;
+        let w = max(cos(th - sl.g), 0.0) * abs(sin(th));
+        acc += sky_radiance(v * cos(th) + sl.ortho * sin(th)) * w;
+        wsum += w;
+    }
+    if wsum <= 0.0 {
+        return;
+    }
+    let e = acc * (meas / wsum);
+    sh_sum[0] += e.x;
+    sh_sum[1] += e.y;
+    sh_sum[2] += e.z;
 }
 
 // The cosine-weighted integral of one side of a slice up to horizon h.
@@ -294,6 +381,11 @@ fn bitmask_slice(bits: u32, v: vec3<f32>, sl: Slice) -> vec4<f32> {
         if (bits & (1u << k)) == 0u {
             open += cum(lo + d, sl.g) - cum(lo, sl.g);
             m += dir * (cos(th - sl.g) * abs(sin(th)) * d);
+        } else if radiance_on() {
+            let e = sky_radiance(dir) * ((cum(lo + d, sl.g) - cum(lo, sl.g)) * sl.nlen);
+            sh_sum[0] += e.x;
+            sh_sum[1] += e.y;
+            sh_sum[2] += e.z;
         } else if sh_on() {
             let y = sh8(dir);
             let wt = cos(th - sl.g) * abs(sin(th)) * sl.nlen * d;
@@ -374,7 +466,10 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
             continue;
         }
         vis += nlen * (arc(h[0], g) + arc(h[1], g));
-        if sh_on() {
+        if radiance_on() {
+            add_radiance_arc(g - HALF_PI, h[0], nlen * (arc(g - HALF_PI, g) - arc(h[0], g)), v, sl);
+            add_radiance_arc(h[1], g + HALF_PI, nlen * (arc(g + HALF_PI, g) - arc(h[1], g)), v, sl);
+        } else if sh_on() {
             // S3HO's share of the slice: its blocked arcs, [γ − π/2, h₀]
             // and [h₁, γ + π/2] (each on one side of the view vector,
             // where |sin θ| is smooth), so that an open slice adds nothing
@@ -526,12 +621,7 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
             acc += textureLoad(ao_in, q, 0);
             wsum += 1.0;
             if sh_on() {
-                let t = textureLoad(sh_in, q, 0);
-                for (var i = 0u; i < 4u; i++) {
-                    let h = unpack2x16float(t[i]);
-                    sh_sum[2u * i] += h.x;
-                    sh_sum[2u * i + 1u] += h.y;
-                }
+                add_packed(textureLoad(sh_in, q, 0));
             }
         }
     }

@@ -45,8 +45,9 @@ struct Shade {
     // coefficient, in `sh9_basis` order.
     sky_sh: array<vec4<f32>, 9>,
     // x: 1 when `lighting.sky.occlusion` is `ao` (no visibility maps: the
-    // cells are open, the ao pass occludes); y: 1 when the ao pass's S3HO
-    // image is bound; 0, 0.
+    // cells are open, the ao pass occludes); y: the ao pass's S3HO image
+    // when bound: 1 its B_lm (`sh_sky` `sh2`), 2 its blocked light E_b
+    // (`radiance`), else 0; 0, 0.
     occlusion: vec4<u32>,
 }
 

@@ -36,9 +36,11 @@
 //   maps' visibility and AO (passes/lighting/ao.rs); never the Sun or Moon.
 //   With `lighting.sky.occlusion` `ao` the cells are open (no maps) and
 //   E = E_open × AO, or with S3HO (`lighting.ao.sh`, only then) E_open
-//   less the light the pixel's blockers take, Σ L_lm B_lm: the sky's
-//   radiance coefficients weighted by the blocked part of the pixel's
-//   cosine-weighted visibility (`s3ho_blocked`).
+//   less the light the pixel's blockers take (`s3ho_blocked`): the ao
+//   pass's integral of the sky's radiance over the blocked directions
+//   (`sh_sky` `radiance`), or Σ L_lm B_lm, the sky's radiance
+//   coefficients weighted by the blocked part of the pixel's
+//   cosine-weighted visibility (`sh2`).
 // Sky pixels are not written: they stay what the sky passes rendered.
 // common.wgsl (the uniforms, the view ray) is prepended.
 
@@ -479,10 +481,15 @@ fn open_irradiance(n: vec3<f32>, g: vec2<u32>) -> vec3<f32> {
 }
 
 // S3HO: the sky's irradiance that the pixel's blockers take, per channel:
+// with `sh_sky` `radiance` (u.occlusion.y 2) the ao pass's own integral of
+// the sky's radiance over the blocked directions, E_b (three f32), else
 // Σ L_lm B_lm, B the blocked part of the cosine-weighted visibility
 // (ao.wgsl), B_00 = Y_00 π (1 − AO).
 fn s3ho_blocked(px: vec2<i32>, ao: f32) -> vec3<f32> {
     let packed = textureLoad(sh_in, px, 0);
+    if u.occlusion.y == 2u {
+        return vec3<f32>(bitcast<f32>(packed.x), bitcast<f32>(packed.y), bitcast<f32>(packed.z));
+    }
     var blocked = u.sky_sh[0].rgb * (0.282095 * PI * (1.0 - ao));
     for (var i = 0u; i < 4u; i++) {
         let b = unpack2x16float(packed[i]);
@@ -773,7 +780,7 @@ fn shade(@builtin(global_invocation_id) gid: vec3<u32>) {
                 // The cells are open: the ao pass alone occludes — AO, or
                 // with S3HO (only here) the light it finds blocked (never
                 // less than none: the lobes' ringing must not add light).
-                if u.occlusion.y == 1u {
+                if u.occlusion.y != 0u {
                     e = clamp(e - s3ho_blocked(px, ao), vec3<f32>(0.0), e);
                 } else {
                     e *= ao;
