@@ -544,7 +544,7 @@ impl WgpuRenderer {
                     }
                 }
                 Effect::Clouds => {
-                    if let Some(c) = p.clouds.prepare(gpu, &mut self.gpu_luts, plan)? {
+                    if let Some(c) = p.clouds.prepare(gpu, &mut self.gpu_luts, plan, layout)? {
                         add(Box::new(c));
                     }
                 }

@@ -68,6 +68,13 @@ fn nodes(n: usize, stride: usize) -> Vec<usize> {
     v
 }
 
+/// The number of grid nodes along an axis of `n` pixels at `stride`
+/// (every `stride`-th pixel and the last): the wgpu backend's grid has
+/// the same nodes.
+pub fn grid_nodes(n: usize, stride: usize) -> usize {
+    nodes(n, stride).len()
+}
+
 /// The interval [v[i], v[i + 1]] that holds `x` (`None` with fewer than
 /// two nodes).
 fn cell(v: &[usize], stride: usize, x: usize) -> Option<usize> {
@@ -288,5 +295,7 @@ mod tests {
             assert!((back - x as f32).abs() < 1e-5);
         }
         assert!(cell(&nodes(1, 4), 4, 0).is_none());
+        assert_eq!(grid_nodes(10, 4), 4);
+        assert_eq!(grid_nodes(640, 4), 161);
     }
 }
