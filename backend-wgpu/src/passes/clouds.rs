@@ -469,7 +469,8 @@ impl CloudsPass {
             gpu,
             &mut self.queue,
             "cloud edge queue",
-            4 + 4 * shape.map_or(0, |_| band_pixels),
+            // The count and at least one index (the shader's minimum).
+            4 + 4 * shape.map_or(1, |_| band_pixels),
         );
         let (atmo, luts) = match air {
             Some((luts, inputs)) => {
