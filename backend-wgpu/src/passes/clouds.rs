@@ -390,7 +390,9 @@ pub struct CloudsPass {
     /// The amortised march's coarse and refining pipelines.
     coarse: wgpu::ComputePipeline,
     refine: wgpu::ComputePipeline,
-    /// The edge queue's reset and march pipelines.
+    /// The per-pixel pipeline that reads the grid, the edge queue's reset
+    /// and march pipelines.
+    grid_pixels: wgpu::ComputePipeline,
     reset: wgpu::ComputePipeline,
     edges: wgpu::ComputePipeline,
     /// Zero-filled LUT stand-ins for frames without the atmosphere pass.
@@ -427,6 +429,7 @@ impl CloudsPass {
             pipeline: gpu.compute_pipeline(&pl, &module, "clouds_pass"),
             coarse: gpu.compute_pipeline(&pl, &module, "clouds_grid_coarse"),
             refine: gpu.compute_pipeline(&pl, &module, "clouds_grid_refine"),
+            grid_pixels: gpu.compute_pipeline(&pl, &module, "clouds_grid_pixels"),
             reset: gpu.compute_pipeline(&pl, &module, "clouds_edges_reset"),
             edges: gpu.compute_pipeline(&pl, &module, "clouds_edges"),
             layout,
@@ -539,6 +542,7 @@ impl CloudsPass {
             grid: shape.map(|shape| GridPipelines {
                 coarse: self.coarse.clone(),
                 refine: self.refine.clone(),
+                pixels: self.grid_pixels.clone(),
                 reset: self.reset.clone(),
                 edges: self.edges.clone(),
                 shape,
@@ -582,6 +586,7 @@ mod tests {
             "clouds_pass",
             "clouds_grid_coarse",
             "clouds_grid_refine",
+            "clouds_grid_pixels",
             "clouds_edges_reset",
             "clouds_edges",
         ] {

@@ -10,8 +10,9 @@
 //!    centre of each coarse cell whose corners disagree (a corner outside
 //!    the projection, or transmittances spread by more than
 //!    [`AGREE_TRANSMITTANCE`]);
-//! 3. `clouds_pass` interpolates each pixel from its cell's corners, or
-//!    its half-size cell's, where they agree, and queues the others;
+//! 3. `clouds_grid_pixels` (in place of `clouds_pass`) interpolates each
+//!    pixel from its cell's corners, or its half-size cell's, where they
+//!    agree, and queues the others;
 //! 4. `clouds_edges` marches the queued pixels side by side (a pixel
 //!    marched inside `clouds_pass` would hold up the interpolated pixels
 //!    that share its SIMD lanes: on lavapipe the pass then took 0.68 of
@@ -82,6 +83,8 @@ pub struct GridPipelines {
     pub coarse: wgpu::ComputePipeline,
     /// `clouds_grid_refine`.
     pub refine: wgpu::ComputePipeline,
+    /// `clouds_grid_pixels` (in place of `clouds_pass`).
+    pub pixels: wgpu::ComputePipeline,
     /// `clouds_edges_reset`.
     pub reset: wgpu::ComputePipeline,
     /// `clouds_edges`.
@@ -132,11 +135,17 @@ impl Step for CloudsStep {
             pass.set_pipeline(&g.reset);
             pass.dispatch_workgroups(1, 1, 1);
         }
-        pass.set_pipeline(&self.pixels);
-        pass.dispatch_workgroups(x, y, 1);
-        if let Some(g) = &self.grid {
-            pass.set_pipeline(&g.edges);
-            pass.dispatch_workgroups(x, y, 1);
+        match &self.grid {
+            Some(g) => {
+                pass.set_pipeline(&g.pixels);
+                pass.dispatch_workgroups(x, y, 1);
+                pass.set_pipeline(&g.edges);
+                pass.dispatch_workgroups(x, y, 1);
+            }
+            None => {
+                pass.set_pipeline(&self.pixels);
+                pass.dispatch_workgroups(x, y, 1);
+            }
         }
     }
 }

@@ -309,8 +309,7 @@ fn clouds_edges_reset() {
 }
 
 // The clouds pass: each pixel's radiance so far composed behind the
-// layers; with the amortised march, a pixel the grid cannot give is
-// queued for `clouds_edges`.
+// layers, the low layer marched at every pixel.
 @compute @workgroup_size(8, 8, 1)
 fn clouds_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (!inside(gid)) {
@@ -322,21 +321,31 @@ fn clouds_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let i = gid.y * frame.width + gid.x;
-    var low = Seen(clear_hit(), vec3<f32>(0.0), vec3<f32>(1.0));
-    if (clouds.has_low != 0u) {
-        if (clouds.march_grid.x <= 1u) {
-            low = low_seen(d.xyz);
-        } else {
-            let g = from_grid(gid.x, y);
-            if (!g.found) {
-                edges.pixels[atomicAdd(&edges.count, 1u)] = i;
-                return;
-            }
-            low = g.s;
-        }
+    let p = accum[i];
+    accum[i] = vec4<f32>(composite_with(d.xyz, p.xyz, low_seen(d.xyz)), p.w);
+}
+
+// The clouds pass with the amortised march: the low layer from the grid,
+// a pixel the grid cannot give queued for `clouds_edges` (no march here:
+// the shader holds none of its code).
+@compute @workgroup_size(8, 8, 1)
+fn clouds_grid_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if (!inside(gid)) {
+        return;
+    }
+    let y = gid.y + frame.band_first_row;
+    let d = pixel_dir(f32(gid.x) + 0.5, f32(y) + 0.5);
+    if (d.w == 0.0) {
+        return;
+    }
+    let i = gid.y * frame.width + gid.x;
+    let g = from_grid(gid.x, y);
+    if (!g.found) {
+        edges.pixels[atomicAdd(&edges.count, 1u)] = i;
+        return;
     }
     let p = accum[i];
-    accum[i] = vec4<f32>(composite_with(d.xyz, p.xyz, low), p.w);
+    accum[i] = vec4<f32>(composite_with(d.xyz, p.xyz, g.s), p.w);
 }
 
 // The queued pixels of the band, marched (one invocation each, over as
