@@ -179,6 +179,11 @@ impl SkyRenderer for CpuRenderer {
             &mut history,
         )?;
         let cloud_history = history.and_then(|h| h.1);
+        if cloud_history.is_none() {
+            // A frame without the amortised march breaks the sequence: the
+            // next one starts afresh rather than from an older frame.
+            self.cloud_history.clear();
+        }
         stats.extend(PassStat::moon_eclipse(state));
         let lights = plan.observer_lights(scene, state, &mut CpuSkyViews)?;
         Ok(RenderOutput {

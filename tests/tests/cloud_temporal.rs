@@ -219,10 +219,14 @@ fn the_history_is_dropped_when_the_frame_changes() {
     sky.time.utc = "2024-06-21T11:00:00Z".into();
     let used = render(&mut r, &sky).1.expect("history use");
     assert_eq!((used.miss, used.reused), (None, 0), "{used:?}");
-    // Without clouds' amortised march no history is reported.
-    let mut full = later.clone();
+    // A frame without the amortised march reports no history and ends
+    // the sequence: the next starts afresh; so does one after
+    // `clear_cloud_history`.
+    let mut full = sky.clone();
     full.clouds.low.march_stride = 1;
     assert_eq!(render(&mut r, &full).1, None);
+    assert_eq!(miss(&mut r, &sky), Some(HistoryMiss::First));
+    assert_eq!(miss(&mut r, &sky), None);
     r.clear_cloud_history();
-    assert_eq!(miss(&mut r, &later), Some(HistoryMiss::First));
+    assert_eq!(miss(&mut r, &sky), Some(HistoryMiss::First));
 }

@@ -32,6 +32,9 @@
 //! first frame, or when the image size, the camera, the low layer's
 //! parameters (all but the time), the observer's shell, the stride, the
 //! atmosphere or the number of lights changed: [`HistoryMiss`] says which.
+//! The CPU renderer also forgets it after a frame without the amortised
+//! march (the next frame is a `first frame`), so that a history is never
+//! older than the frame before.
 //! [`HistoryUse`] counts the nodes reused and marched (`--stats`:
 //! `cloud_history`).
 
