@@ -326,6 +326,16 @@ fn amortised_march_matches_the_cpu_and_the_full_march() {
         again.pixels, amortised.pixels,
         "the amortised frame repeats"
     );
+    // In bands of 40 rows (the grid marched with the first, the edge
+    // queue emptied before each): the same image.
+    let banded = {
+        let mut r = gpu();
+        r.set_max_band_bytes(Some(192 * 16 * 40));
+        let out = r.render(&s, &state);
+        r.set_max_band_bytes(None);
+        out.expect("banded render").image
+    };
+    assert_eq!(banded.pixels, amortised.pixels, "banded");
     let mut full = s.clone();
     full.clouds.low.march_stride = 1;
     let (full, ms1) = wgpu_timed(&full, &state);
