@@ -27,8 +27,8 @@ use std::time::Instant as Clock;
 use glam::Vec3;
 use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, LutConfig};
 use himmel_skymodel::frame::{
-    CpuSkyViews, FramePlan, LowCloudGrid, LutOrigin, LutProgress, LutStore, PixelDirections,
-    SkyLight,
+    CloudFrame, CloudHistory, CpuSkyViews, FramePlan, HistoryKey, HistoryUse, LowCloudGrid,
+    LutOrigin, LutProgress, LutStore, PixelDirections, SkyLight,
 };
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
 use himmel_skymodel::{Effect, Scene, SkyState};
@@ -86,10 +86,12 @@ pub fn sky_light(luts: &AtmosphereLuts, scene: &Scene, state: &SkyState) -> Opti
 }
 
 /// The CPU renderer. Keeps the last LUTs in memory and, when a cache
-/// directory is given, on disk ([`LutStore`]).
+/// directory is given, on disk ([`LutStore`]), and the last frame's
+/// coarse cloud grid for temporal reprojection ([`CloudHistory`]).
 #[derive(Debug, Default)]
 pub struct CpuRenderer {
     store: LutStore,
+    cloud_history: CloudHistory,
 }
 
 impl CpuRenderer {
@@ -97,7 +99,16 @@ impl CpuRenderer {
     pub fn new(cache_dir: Option<PathBuf>) -> Self {
         let mut store = LutStore::new(cache_dir);
         store.textures.set_loader(Arc::new(texture_io::ImageLoader));
-        CpuRenderer { store }
+        CpuRenderer {
+            store,
+            cloud_history: CloudHistory::default(),
+        }
+    }
+
+    /// Forgets the last frame's cloud grid: the next frame marches every
+    /// coarse node (its `cloud_history` says `first frame`).
+    pub fn clear_cloud_history(&mut self) {
+        self.cloud_history.clear();
     }
 
     /// Shows a progress bar on stderr (when it is a terminal) during a
@@ -158,7 +169,21 @@ impl SkyRenderer for CpuRenderer {
         let mut pixels: Vec<[f32; 3]> = (0..w * h).into_par_iter().map(|_| [0.0f32; 3]).collect();
         let mut valid = vec![false; w * h];
         let mut geometry_ms = ms(tg);
-        let mut stats = execute(&plan, scene, &mut pixels, &mut valid, &mut geometry_ms)?;
+        let mut history = Some((&mut self.cloud_history, None));
+        let mut stats = execute(
+            &plan,
+            scene,
+            &mut pixels,
+            &mut valid,
+            &mut geometry_ms,
+            &mut history,
+        )?;
+        let cloud_history = history.and_then(|h| h.1);
+        if cloud_history.is_none() {
+            // A frame without the amortised march breaks the sequence: the
+            // next one starts afresh rather than from an older frame.
+            self.cloud_history.clear();
+        }
         stats.extend(PassStat::moon_eclipse(state));
         let lights = plan.observer_lights(scene, state, &mut CpuSkyViews)?;
         Ok(RenderOutput {
@@ -175,6 +200,7 @@ impl SkyRenderer for CpuRenderer {
             sky_view_ms: plan.sky_view_ms,
             cloud_maps_ms: plan.clouds.as_ref().map_or(0.0, |c| c.height_field_ms),
             cloud_grid_ms: plan.clouds.as_ref().map_or(0.0, |c| c.diffusion_grid_ms),
+            cloud_history,
             lights,
         })
     }
@@ -186,13 +212,16 @@ impl SkyRenderer for CpuRenderer {
 /// pending run that only adds light (the night frame's Milky Way: one run
 /// of Milky Way, Moon and atmosphere after the stars and planets instead
 /// of two, so that every pixel's direction is computed once). Returns each
-/// pass's stat; the directions' time is added to `geometry_ms`.
+/// pass's stat; the directions' time is added to `geometry_ms`. With
+/// `history`, an amortised low layer takes its coarse nodes from the
+/// renderer's [`CloudHistory`] and notes what it gave.
 fn execute(
     plan: &FramePlan,
     scene: &Scene,
     pixels: &mut [[f32; 3]],
     valid: &mut [bool],
     geometry_ms: &mut f64,
+    history: &mut Option<(&mut CloudHistory, Option<HistoryUse>)>,
 ) -> Result<Vec<PassStat>, RenderError> {
     let cam = &scene.camera;
     let (w, h) = cam.image_size();
@@ -259,7 +288,18 @@ fn execute(
                     // Amortised marching: the low layer's grid first.
                     let grid = (c.low.is_some() && c.march_stride > 1).then(|| {
                         cloud_grid.get_or_init(|| {
-                            LowCloudGrid::build(c, &runner.directions, c.march_stride as usize)
+                            let stride = c.march_stride as usize;
+                            let dirs = &runner.directions;
+                            match history.as_mut() {
+                                Some((h, used)) => {
+                                    let key = history_key(scene, plan, c);
+                                    let (g, u) =
+                                        LowCloudGrid::build_with_history(c, dirs, stride, h, key);
+                                    *used = Some(u);
+                                    g
+                                }
+                                None => LowCloudGrid::build(c, dirs, stride),
+                            }
                         })
                     });
                     runner.run.push((i, PixelPass::Clouds(c, grid)));
@@ -292,6 +332,17 @@ fn execute(
     }
     *geometry_ms += runner.geometry_ms;
     Ok(runner.stats)
+}
+
+/// What must stay the same for the cloud history to serve the next frame.
+fn history_key(scene: &Scene, plan: &FramePlan, c: &CloudFrame) -> HistoryKey {
+    HistoryKey {
+        camera: scene.camera,
+        layer: scene.clouds.low,
+        shell: c.shell,
+        stride: c.march_stride as usize,
+        atmosphere: plan.luts.is_some().then(|| scene.atmosphere.clone()),
+    }
 }
 
 /// The state of [`execute`]: the pending run of per-pixel passes (each

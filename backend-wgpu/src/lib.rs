@@ -544,7 +544,7 @@ impl WgpuRenderer {
                     }
                 }
                 Effect::Clouds => {
-                    if let Some(c) = p.clouds.prepare(gpu, &mut self.gpu_luts, plan)? {
+                    if let Some(c) = p.clouds.prepare(gpu, &mut self.gpu_luts, plan, layout)? {
                         add(Box::new(c));
                     }
                 }
@@ -665,6 +665,7 @@ impl SkyRenderer for WgpuRenderer {
             sky_view_ms: frame.sky_view_ms,
             cloud_maps_ms: frame.cloud_maps_ms,
             cloud_grid_ms: frame.cloud_grid_ms,
+            cloud_history: None,
             lights: frame.lights,
         })
     }

@@ -601,6 +601,22 @@ pub(crate) fn render_frame(
     })
 }
 
+/// `--stats`' `cloud_history`: whether the low layer's coarse grid came
+/// from the last frame (temporal reprojection, CPU backend), why not, and
+/// the nodes reused and marched; null without an amortised march.
+pub(crate) fn cloud_history_stats(out: &himmel_skymodel::RenderOutput) -> serde_json::Value {
+    match &out.cloud_history {
+        None => serde_json::Value::Null,
+        Some(h) => json!({
+            "used": h.miss.is_none(),
+            "why_not": h.miss.map(|m| m.to_string()),
+            "nodes_reused": h.reused,
+            "nodes_marched": h.marched,
+            "nodes_marched_light_moved": h.light_moved,
+        }),
+    }
+}
+
 /// The single-frame `--stats` fields of a frame (`total_ms` and `world`
 /// are the caller's).
 pub(crate) fn frame_stats(
@@ -625,6 +641,7 @@ pub(crate) fn frame_stats(
         "sky_view_ms": out.sky_view_ms,
         "cloud_maps_ms": out.cloud_maps_ms,
         "cloud_grid_ms": out.cloud_grid_ms,
+        "cloud_history": cloud_history_stats(out),
         "write_ms": frame.write_ms,
         "overlay_ms": frame.overlay_ms,
         "ev100": frame.ev100,

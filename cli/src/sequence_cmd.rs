@@ -26,7 +26,8 @@ use himmel_skymodel::{Effect, Exposure, Projection, Scene};
 use serde_json::json;
 
 use crate::render_cmd::{
-    frame_stats, render_frame, scene_error, write_stats, FrameRenderer, RenderArgs,
+    cloud_history_stats, frame_stats, render_frame, scene_error, write_stats, FrameRenderer,
+    RenderArgs,
 };
 use crate::timearg::format_utc;
 use crate::CliError;
@@ -276,6 +277,7 @@ impl SequenceRun<'_> {
                 "sky_view_ms": w.out.sky_view_ms,
                 "cloud_maps_ms": w.out.cloud_maps_ms,
                 "cloud_grid_ms": w.out.cloud_grid_ms,
+                "cloud_history": cloud_history_stats(&w.out),
                 "passes": passes,
                 "non_finite_pixels": w
                     .out

@@ -345,3 +345,55 @@ fn bad_sequence_input_exits_2_naming_the_flag_or_field() {
         }
     }
 }
+
+/// The low clouds' temporal reprojection in a sequence (`clouds.low.
+/// march_stride` 4, wind): `--stats` says per frame whether the coarse
+/// grid came from the last frame, why not on the first, and how many
+/// nodes were reused.
+#[test]
+fn cloud_history_is_reported_per_frame() {
+    let d = dir("cloud_history");
+    let (out, st, scene) = (
+        d.join("sky.exr"),
+        d.join("stats.json"),
+        d.join("scene.json"),
+    );
+    std::fs::write(
+        &scene,
+        r#"{"effects": ["atmosphere", "sun", "clouds"],
+            "camera": {"projection": "fisheye", "width": 48, "height": 48},
+            "clouds": {"low": {"coverage": 0.5, "march_stride": 4, "wind_m_s": [15.0, 0.0]}}}"#,
+    )
+    .unwrap();
+    let (out_s, st_s, scene_s) = (s(&out), s(&st), s(&scene));
+    let mut a = vec!["render", "--time", "2024-06-21T08:00:00Z"];
+    a.extend_from_slice(&MUNICH);
+    a.extend_from_slice(&[
+        "--scene",
+        &scene_s,
+        "--frames",
+        "3",
+        "--time-step",
+        "4",
+        "--output",
+        &out_s,
+        "--stats",
+        &st_s,
+    ]);
+    let (code, _, err) = himmel(&a);
+    assert_eq!(code, 0, "{err}");
+    let v = stats(&st);
+    let frames = v["frames"].as_array().unwrap();
+    let h0 = &frames[0]["cloud_history"];
+    assert_eq!(h0["used"], false, "{h0}");
+    assert_eq!(h0["why_not"], "first frame");
+    assert_eq!(h0["nodes_reused"], 0);
+    for f in &frames[1..] {
+        let h = &f["cloud_history"];
+        assert_eq!(h["used"], true, "{h}");
+        assert!(h["why_not"].is_null(), "{h}");
+        assert!(h["nodes_reused"].as_u64().unwrap() > 0, "{h}");
+        assert!(h["nodes_marched"].as_u64().unwrap() > 0, "{h}");
+    }
+    assert_eq!(v["cloud_history"], *h0);
+}

@@ -73,6 +73,10 @@ pub struct RenderOutput {
     /// (`clouds.low.scattering = "diffusion"` in the volumetric tier: on
     /// the CPU, in the frame plan, one per light), ms; 0 without them.
     pub cloud_grid_ms: f64,
+    /// What the low layer's temporal reprojection gave this frame
+    /// ([`crate::frame::CloudHistory`]; `None` when the frame has no
+    /// amortised march or the backend keeps no history).
+    pub cloud_history: Option<crate::frame::HistoryUse>,
     /// The Sun and Moon as directional lights and the sky's horizontal
     /// illuminance at this instant (what a 3D world receives).
     pub lights: ObserverLights,

@@ -7,16 +7,22 @@
 //! sky cannot hide a wrong cloud. The moonlit case also checks that what
 //! lies behind the cloud (the stars) is dimmed as on the CPU.
 //!
+//! Amortised marching (`clouds.low.march_stride` 4) is checked the same
+//! way against the CPU's amortised frame, and against the wgpu backend's
+//! own full march by FLIP.
+//!
 //! `cargo test -p himmel-tests --test wgpu_parity_clouds -- --nocapture`
 //! prints the figures.
 
 mod wgpu_common;
+mod world_common;
 
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::scene::{CloudsSpec, LowCloudKind, LowCloudTier};
 use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
 use wgpu_common::{assert_parity, gpu, percentile, scene};
+use world_common::metrics::{flip, RgbImage};
 
 /// `s` with the clouds pass and the layers `f` sets.
 fn cloudy(mut s: Scene, f: impl FnOnce(&mut CloudsSpec)) -> Scene {
@@ -39,6 +45,20 @@ fn cpu(s: &Scene, state: &SkyState) -> HdrImage {
         .render(s, state)
         .expect("CPU render")
         .image
+}
+
+/// The GPU image of `s` and its clouds pass's time (ms); asserts that
+/// the pass ran and was timed.
+fn wgpu_timed(s: &Scene, state: &SkyState) -> (HdrImage, f64) {
+    let out = gpu().render(s, state).expect("wgpu render");
+    let p = out
+        .passes
+        .iter()
+        .find(|p| p.name == "clouds")
+        .expect("a clouds entry");
+    assert!(p.ran, "{p:?}");
+    let ms = p.ms.expect("the clouds pass is timed");
+    (out.image, ms)
 }
 
 /// The GPU image of `s`; asserts that its clouds pass ran and was timed
@@ -276,4 +296,55 @@ fn cloud_shadows_on_the_ground_from_a_mountain() {
         clear_spread.1
     );
     assert!(hi > 1.5 * lo, "no shadow pattern: {lo} {hi}");
+}
+
+fn rgb(img: &HdrImage) -> RgbImage {
+    let (w, h) = (img.width, img.height);
+    RgbImage::from_fn(w, h, |x, y| img.pixels[y * w + x])
+}
+
+/// Amortised marching on the GPU (`clouds.low.march_stride` 4, the
+/// two-level grid of the CPU's `LowCloudGrid`): parity with the CPU's
+/// amortised frame (issue 7's thresholds, whole image and cloud pixels),
+/// and within FLIP 0.05 of the GPU's own full march. Cumulus 0.5 on a
+/// summer morning, fisheye 192² (the CPU test's scene, smaller).
+#[test]
+fn amortised_march_matches_the_cpu_and_the_full_march() {
+    let mut s = fisheye("2024-06-21T08:00:00Z", &DAY);
+    s.camera.width = 192;
+    s.camera.height = 192;
+    let s = cloudy(s, |c| {
+        c.low.coverage = 0.5;
+        c.low.kind = LowCloudKind::Cumulus;
+        c.low.wind_m_s = [0.0, 0.0];
+        c.low.march_stride = 4;
+    });
+    let (_, amortised) = cloud_parity("cumulus 0.5, stride 4, fisheye 192²", &s);
+    let state = SkyState::at(&s).expect("state");
+    let (again, ms4) = wgpu_timed(&s, &state);
+    assert_eq!(
+        again.pixels, amortised.pixels,
+        "the amortised frame repeats"
+    );
+    // In bands of 40 rows (the grid marched with the first, the edge
+    // queue emptied before each): the same image.
+    let banded = {
+        let mut r = gpu();
+        r.set_max_band_bytes(Some(192 * 16 * 40));
+        let out = r.render(&s, &state);
+        r.set_max_band_bytes(None);
+        out.expect("banded render").image
+    };
+    assert_eq!(banded.pixels, amortised.pixels, "banded");
+    let mut full = s.clone();
+    full.clouds.low.march_stride = 1;
+    let (full, ms1) = wgpu_timed(&full, &state);
+    let f = flip(&rgb(&amortised), &rgb(&full), None);
+    eprintln!(
+        "wgpu, stride 4 against the full march: FLIP {f:.4}; clouds pass {ms4:.1} ms (stride 4), {ms1:.1} ms (full)"
+    );
+    assert!(f <= 0.05, "FLIP {f:.4}");
+    // The grid changes the image: a frame that ignored the stride would
+    // repeat the full march bit for bit.
+    assert_ne!(amortised.pixels, full.pixels, "the stride changed nothing");
 }

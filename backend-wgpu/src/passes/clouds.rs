@@ -32,16 +32,17 @@ use himmel_skymodel::spectrum::{BandWeights, Spectrum};
 use himmel_skymodel::{FramePlan, RenderError};
 use wgpu::util::DeviceExt;
 
+use super::clouds_amortise::{CloudsStep, GridPipelines, GridShape};
 use super::luts::{band_groups, LutSlot};
 use super::sky_view::atmosphere_uniforms;
-use crate::frame::SkyGroup;
+use crate::frame::{FrameLayout, SkyGroup};
 use crate::gpu::{bind_group, storage_entry, uniform_entry, Gpu};
-use crate::pass::{Dispatch, Groups};
 use crate::uniforms::AtmosphereUniforms;
 
 /// The clouds pass: frame.wgsl, clouds.wgsl, its diffusion model
-/// (clouds_diffusion.wgsl) and its height-field tier
-/// (clouds_heightfield.wgsl), then the atmosphere's
+/// (clouds_diffusion.wgsl), its height-field tier
+/// (clouds_heightfield.wgsl), the diffusion grids (clouds_grid.wgsl), the
+/// composition and the amortised march (clouds_amortise.wgsl), then the atmosphere's
 /// uniforms and lookups (atmo.wgsl), the medium (medium.wgsl) and the
 /// bilinear lookup (bilinear.wgsl).
 pub const CLOUDS_WGSL: &str = concat!(
@@ -50,6 +51,7 @@ pub const CLOUDS_WGSL: &str = concat!(
     include_str!("../shaders/clouds_diffusion.wgsl"),
     include_str!("../shaders/clouds_heightfield.wgsl"),
     include_str!("../shaders/clouds_grid.wgsl"),
+    include_str!("../shaders/clouds_amortise.wgsl"),
     include_str!("../shaders/atmo.wgsl"),
     include_str!("../shaders/medium.wgsl"),
     include_str!("../shaders/bilinear.wgsl")
@@ -58,7 +60,7 @@ pub const CLOUDS_WGSL: &str = concat!(
 /// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
 /// cloud fields, the model's constants, the lights and the aerial
 /// perspective's inputs, the ground's cloud shadows, the height-field
-/// tier's maps. 512 bytes.
+/// tier's maps, the amortised march's grid. 576 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CloudUniforms {
@@ -206,9 +208,13 @@ pub struct CloudUniforms {
     pub grid_dims: [f32; 4],
     /// `DiffusionGrid::weight`, `fade_km`, `g`, 0.
     pub grid_weight: [f32; 4],
+    /// The amortised march ([`GridShape::uniform`]): the stride (1: every
+    /// pixel marched), the coarse nodes along x and y, the bits of
+    /// `AGREE_TRANSMITTANCE`.
+    pub march_grid: [u32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 560);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 576);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -221,6 +227,27 @@ fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
     *sp = band_groups(s);
     *c = rgb;
 }
+
+/// The storage buffer kept in `slot`, at least `bytes` long (a larger
+/// one made when it is shorter).
+fn grown(gpu: &Gpu, slot: &mut Option<wgpu::Buffer>, label: &str, bytes: u64) -> wgpu::Buffer {
+    match slot {
+        Some(b) if b.size() >= bytes => b.clone(),
+        _ => {
+            let b = gpu.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
+            *slot = Some(b.clone());
+            b
+        }
+    }
+}
+
+/// The lattice's stand-in without amortised marching (one entry), bytes.
+const ENTRY_STAND_IN: u64 = super::clouds_amortise::ENTRY_BYTES;
 
 /// The pass's uniforms for the frame plan's clouds `c`, with `air` the
 /// lights of the aerial perspective when the atmosphere pass runs (the
@@ -360,8 +387,22 @@ fn grid_cells(c: &CloudFrame) -> Vec<[f32; 4]> {
 pub struct CloudsPass {
     layout: wgpu::BindGroupLayout,
     pipeline: wgpu::ComputePipeline,
+    /// The amortised march's coarse and refining pipelines.
+    coarse: wgpu::ComputePipeline,
+    refine: wgpu::ComputePipeline,
+    /// The per-pixel pipeline that reads the grid, the edge queue's reset
+    /// and march pipelines.
+    grid_pixels: wgpu::ComputePipeline,
+    reset: wgpu::ComputePipeline,
+    edges: wgpu::ComputePipeline,
     /// Zero-filled LUT stand-ins for frames without the atmosphere pass.
     no_luts: Option<wgpu::Buffer>,
+    /// The amortised march's lattice, kept across frames (grown as
+    /// needed); a small stand-in without amortised marching.
+    lattice: Option<wgpu::Buffer>,
+    /// The band's queue of pixels the grid cannot give (a count, then
+    /// pixel indices), kept across frames likewise.
+    queue: Option<wgpu::Buffer>,
 }
 
 impl CloudsPass {
@@ -379,29 +420,61 @@ impl CloudsPass {
                     storage_entry(3, true),
                     storage_entry(4, true),
                     storage_entry(5, true),
+                    storage_entry(6, false),
+                    storage_entry(7, false),
                 ],
             });
         let pl = gpu.pipeline_layout("clouds", &[&sky.layout, &layout]);
         CloudsPass {
             pipeline: gpu.compute_pipeline(&pl, &module, "clouds_pass"),
+            coarse: gpu.compute_pipeline(&pl, &module, "clouds_grid_coarse"),
+            refine: gpu.compute_pipeline(&pl, &module, "clouds_grid_refine"),
+            grid_pixels: gpu.compute_pipeline(&pl, &module, "clouds_grid_pixels"),
+            reset: gpu.compute_pipeline(&pl, &module, "clouds_edges_reset"),
+            edges: gpu.compute_pipeline(&pl, &module, "clouds_edges"),
             layout,
             no_luts: None,
+            lattice: None,
+            queue: None,
         }
     }
 
-    /// The pass over every band when the plan has cloud layers: its
-    /// uniforms and the LUTs (uploaded unless `gpu_luts` holds them).
+    /// The pass over every band of `layout`'s image when
+    /// the plan has cloud layers: its uniforms, the LUTs (uploaded unless
+    /// `gpu_luts` holds them), the amortised march's grid when the low
+    /// layer has a `march_stride` above 1.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
         gpu_luts: &mut LutSlot,
         plan: &FramePlan,
-    ) -> Result<Option<Dispatch>, RenderError> {
+        layout: &FrameLayout,
+    ) -> Result<Option<CloudsStep>, RenderError> {
         let Some(c) = plan.clouds.as_ref() else {
             return Ok(None);
         };
         let air = plan.luts.as_ref().zip(plan.sky_inputs.as_ref());
-        let u = cloud_uniforms(c, air.map(|(_, inputs)| inputs));
+        let mut u = cloud_uniforms(c, air.map(|(_, inputs)| inputs));
+        let limit = gpu.device.limits().max_storage_buffer_binding_size;
+        let shape = c
+            .low
+            .as_ref()
+            .and_then(|_| GridShape::of(layout.width, layout.height, c.march_stride, limit));
+        u.march_grid = GridShape::uniform(shape);
+        let lattice = grown(
+            gpu,
+            &mut self.lattice,
+            "cloud march lattice",
+            shape.map_or(ENTRY_STAND_IN, |g| g.bytes()),
+        );
+        let band_pixels = layout.width as u64 * layout.band_rows as u64;
+        let queue = grown(
+            gpu,
+            &mut self.queue,
+            "cloud edge queue",
+            // The count and at least one index (the shader's minimum).
+            4 + 4 * shape.map_or(1, |_| band_pixels),
+        );
         let (atmo, luts) = match air {
             Some((luts, inputs)) => {
                 let g = gpu_luts.upload(gpu, luts);
@@ -460,13 +533,21 @@ impl CloudsPass {
                 luts[1].as_entire_binding(),
                 luts[2].as_entire_binding(),
                 columns.as_entire_binding(),
+                lattice.as_entire_binding(),
+                queue.as_entire_binding(),
             ],
         );
-        Ok(Some(Dispatch {
-            label: "clouds",
-            pipeline: self.pipeline.clone(),
-            group1: Some(group),
-            groups: Groups::Band,
+        Ok(Some(CloudsStep {
+            pixels: self.pipeline.clone(),
+            grid: shape.map(|shape| GridPipelines {
+                coarse: self.coarse.clone(),
+                refine: self.refine.clone(),
+                pixels: self.grid_pixels.clone(),
+                reset: self.reset.clone(),
+                edges: self.edges.clone(),
+                shape,
+            }),
+            group1: group,
         }))
     }
 
@@ -501,7 +582,19 @@ mod tests {
         )
         .validate(&module)
         .expect("clouds.wgsl validates");
-        assert!(module.entry_points.iter().any(|e| e.name == "clouds_pass"));
+        for entry in [
+            "clouds_pass",
+            "clouds_grid_coarse",
+            "clouds_grid_refine",
+            "clouds_grid_pixels",
+            "clouds_edges_reset",
+            "clouds_edges",
+        ] {
+            assert!(
+                module.entry_points.iter().any(|e| e.name == entry),
+                "{entry}"
+            );
+        }
         let rust = fields!(
             CloudUniforms,
             [
@@ -574,6 +667,7 @@ mod tests {
                 grid_origin,
                 grid_dims,
                 grid_weight,
+                march_grid,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);

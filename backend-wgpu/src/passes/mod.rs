@@ -3,6 +3,7 @@
 
 pub mod atmosphere;
 pub mod clouds;
+pub mod clouds_amortise;
 pub mod lighting;
 pub mod luts;
 pub mod milkyway;

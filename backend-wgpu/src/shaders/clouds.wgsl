@@ -124,6 +124,10 @@ struct Clouds {
     grid_origin: vec4<f32>,
     grid_dims: vec4<f32>,
     grid_weight: vec4<f32>,
+    // amortised marching (clouds_amortise.wgsl, cloud_grid.rs
+    // `LowCloudGrid`): the stride N (≤ 1: every pixel marched), the coarse
+    // grid's nodes along x and y, 0
+    march_grid: vec4<u32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;
@@ -731,41 +735,4 @@ fn shade_ground(view: vec3<f32>, px: vec3<f32>) -> vec3<f32> {
         out = max(out - rgb * (1.0 - t), vec3<f32>(0.0));
     }
     return out;
-}
-
-// `CloudFrame::composite`: `behind` seen through the high layer, then the
-// low one, with the air in front of each (a ground pixel's direct light
-// shadowed first).
-fn composite(view: vec3<f32>, behind: vec3<f32>) -> vec3<f32> {
-    var px = shade_ground(view, behind);
-    for (var layer = 0u; layer < 2u; layer = layer + 1u) {
-        var hit: CloudHit;
-        if (layer == 0u) {
-            hit = high_hit(view);
-        } else {
-            hit = low_hit(view);
-        }
-        if (hit.transmittance >= 1.0 - clouds.clear) {
-            continue;
-        }
-        let a = air(view, hit.distance_km);
-        let t = hit.transmittance;
-        px = t * px + (1.0 - t) * a.l + a.t * hit.radiance;
-    }
-    return px;
-}
-
-// The clouds pass: each pixel's radiance so far composed behind the layers.
-@compute @workgroup_size(8, 8, 1)
-fn clouds_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (!inside(gid)) {
-        return;
-    }
-    let d = pixel_dir(f32(gid.x) + 0.5, f32(gid.y + frame.band_first_row) + 0.5);
-    if (d.w == 0.0) {
-        return;
-    }
-    let i = gid.y * frame.width + gid.x;
-    let p = accum[i];
-    accum[i] = vec4<f32>(composite(d.xyz, p.xyz), p.w);
 }

@@ -33,6 +33,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use glam::Vec3;
 use rayon::prelude::*;
 
+use super::cloud_history::{CloudHistory, HistoryKey, HistoryUse};
 use super::clouds::{CloudFrame, SeenHit};
 use super::pixels::PixelDirections;
 use crate::clouds::CloudHit;
@@ -68,9 +69,38 @@ fn nodes(n: usize, stride: usize) -> Vec<usize> {
     v
 }
 
+/// The number of grid nodes along an axis of `n` pixels at `stride`
+/// (every `stride`-th pixel and the last): the wgpu backend's grid has
+/// the same nodes.
+pub fn grid_nodes(n: usize, stride: usize) -> usize {
+    nodes(n, stride).len()
+}
+
+/// Marches the coarse nodes (row-major over `ys`, `xs`) for which `pick(i,
+/// j)` holds, on all cores: `None` for those not picked, `Some(None)` where
+/// the pixel shows no scene.
+pub(crate) fn march_nodes(
+    frame: &CloudFrame,
+    dirs: &PixelDirections,
+    xs: &[usize],
+    ys: &[usize],
+    pick: impl Fn(usize, usize) -> bool + Sync,
+) -> Vec<Option<Option<SeenHit>>> {
+    let pick = &pick;
+    ys.par_iter()
+        .enumerate()
+        .flat_map_iter(|(j, &y)| {
+            xs.iter()
+                .enumerate()
+                .map(move |(i, &x)| pick(i, j).then(|| dirs.dir(x, y).map(|v| frame.low_seen(v))))
+                .collect::<Vec<_>>()
+        })
+        .collect()
+}
+
 /// The interval [v[i], v[i + 1]] that holds `x` (`None` with fewer than
 /// two nodes).
-fn cell(v: &[usize], stride: usize, x: usize) -> Option<usize> {
+pub(crate) fn cell(v: &[usize], stride: usize, x: usize) -> Option<usize> {
     (v.len() >= 2).then(|| (x / stride.max(1)).min(v.len() - 2))
 }
 
@@ -81,7 +111,7 @@ fn frac(x: usize, a: usize, b: usize) -> f32 {
 
 /// Whether four corner hits agree: all clear, or transmittances within
 /// [`AGREE_TRANSMITTANCE`].
-fn agree(q: &[SeenHit; 4]) -> bool {
+pub(crate) fn agree(q: &[SeenHit]) -> bool {
     let (lo, hi) = q.iter().fold((f32::MAX, f32::MIN), |(a, b), h| {
         (a.min(h.hit.transmittance), b.max(h.hit.transmittance))
     });
@@ -92,7 +122,7 @@ fn agree(q: &[SeenHit; 4]) -> bool {
 /// fractions (fx, fy); clear when all four are. The air in front is the
 /// corners' air weighted by their extinction (1 − T) as well: a clear
 /// corner has no air in front of a cloud to give.
-fn bilinear(q: &[SeenHit; 4], fx: f32, fy: f32) -> SeenHit {
+pub(crate) fn bilinear(q: &[SeenHit; 4], fx: f32, fy: f32) -> SeenHit {
     let clear = SeenHit {
         hit: CloudHit::CLEAR,
         air_radiance: [0.0; 3],
@@ -148,14 +178,44 @@ impl LowCloudGrid {
         let stride = stride.max(2);
         let (w, h) = dirs.size();
         let (xs, ys) = (nodes(w, stride), nodes(h, stride));
-        let hits: Vec<Option<SeenHit>> = ys
-            .par_iter()
-            .flat_map_iter(|&y| {
-                xs.iter()
-                    .map(move |&x| dirs.dir(x, y).map(|v| frame.low_seen(v)))
-                    .collect::<Vec<_>>()
-            })
+        let hits = march_nodes(frame, dirs, &xs, &ys, |_, _| true)
+            .into_iter()
+            .map(|h| h.flatten())
             .collect();
+        LowCloudGrid::from_coarse(frame, dirs, stride, xs, ys, hits)
+    }
+
+    /// The grid of `frame` over `dirs`' image whose coarse nodes come from
+    /// `history` where it holds them for this frame (marched otherwise;
+    /// [`CloudHistory`]), and what the history gave. `history` then keeps
+    /// this frame's nodes.
+    pub fn build_with_history(
+        frame: &CloudFrame,
+        dirs: &PixelDirections,
+        stride: usize,
+        history: &mut CloudHistory,
+        key: HistoryKey,
+    ) -> (LowCloudGrid, HistoryUse) {
+        let stride = stride.max(2);
+        let (w, h) = dirs.size();
+        let (xs, ys) = (nodes(w, stride), nodes(h, stride));
+        let (hits, used) = history.coarse(frame, dirs, key, &xs, &ys);
+        (
+            LowCloudGrid::from_coarse(frame, dirs, stride, xs, ys, hits),
+            used,
+        )
+    }
+
+    /// The grid from its coarse nodes `hits` (row-major over `ys`, `xs`):
+    /// the fine level marched in the cells whose corners disagree.
+    fn from_coarse(
+        frame: &CloudFrame,
+        dirs: &PixelDirections,
+        stride: usize,
+        xs: Vec<usize>,
+        ys: Vec<usize>,
+        hits: Vec<Option<SeenHit>>,
+    ) -> LowCloudGrid {
         let mut grid = LowCloudGrid {
             stride,
             xs,
@@ -288,5 +348,7 @@ mod tests {
             assert!((back - x as f32).abs() < 1e-5);
         }
         assert!(cell(&nodes(1, 4), 4, 0).is_none());
+        assert_eq!(grid_nodes(10, 4), 4);
+        assert_eq!(grid_nodes(640, 4), 161);
     }
 }

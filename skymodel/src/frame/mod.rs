@@ -32,6 +32,7 @@
 //!   atmosphere, the sky's horizontal illuminance, the aerial perspective.
 
 pub mod cloud_grid;
+pub mod cloud_history;
 pub mod cloud_shadow;
 pub mod clouds;
 pub mod lights;
@@ -49,7 +50,8 @@ use std::time::Instant as Clock;
 
 use glam::DVec3;
 
-pub use cloud_grid::LowCloudGrid;
+pub use cloud_grid::{grid_nodes, LowCloudGrid, AGREE_TRANSMITTANCE};
+pub use cloud_history::{CloudHistory, HistoryKey, HistoryMiss, HistoryUse};
 pub use cloud_shadow::CloudShadowMap;
 pub use clouds::{CloudFrame, GridStore, GroundLight, SeenHit};
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};
