@@ -48,3 +48,26 @@ pub(crate) fn check_range(field: &str, v: f64, lo: f64, hi: f64) -> Result<(), S
         ))
     }
 }
+
+/// [`check_range`] over a table of (field, value, lo, hi), in order: the
+/// first value outside its range is the error.
+pub(crate) fn check_ranges(table: &[(&str, f64, f64, f64)]) -> Result<(), SceneError> {
+    table
+        .iter()
+        .try_for_each(|&(field, v, lo, hi)| check_range(field, v, lo, hi))
+}
+
+/// Asserts that `validate` rejects each settings value of `cases`, naming
+/// its field (the `*_spec` modules' range tests).
+#[cfg(test)]
+pub(crate) fn assert_rejected<S>(
+    cases: impl IntoIterator<Item = (S, &'static str)>,
+    validate: impl Fn(&S) -> Result<(), SceneError>,
+) {
+    for (bad, field) in cases {
+        match validate(&bad) {
+            Ok(()) => panic!("{field}: accepted"),
+            Err(e) => assert_eq!(e.field, field),
+        }
+    }
+}

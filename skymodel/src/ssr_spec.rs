@@ -14,7 +14,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene_error::{check_range, SceneError};
+use crate::scene_error::{check_ranges, SceneError};
 
 /// Screen-space reflections (`lighting.ssr`; runs with `--effects ssr`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -62,16 +62,13 @@ impl Default for SsrSettings {
 impl SsrSettings {
     /// Checks every value against its documented range, naming the field.
     pub fn validate(&self) -> Result<(), SceneError> {
-        for (f, v, lo, hi) in [
+        check_ranges(&[
             ("lighting.ssr.max_roughness", self.max_roughness, 0.0, 1.0),
             ("lighting.ssr.samples", self.samples as f64, 1.0, 64.0),
             ("lighting.ssr.max_steps", self.max_steps as f64, 4.0, 512.0),
             ("lighting.ssr.thickness_m", self.thickness_m, 0.001, 100.0),
             ("lighting.ssr.edge_fade", self.edge_fade, 0.0, 0.5),
-        ] {
-            check_range(f, v, lo, hi)?;
-        }
-        Ok(())
+        ])
     }
 }
 
@@ -83,33 +80,34 @@ mod tests {
     fn defaults_and_ranges() {
         let a = SsrSettings::default();
         assert!(a.validate().is_ok());
-        for (bad, field) in [
-            (
-                SsrSettings {
-                    max_roughness: 1.5,
-                    ..a
-                },
-                "lighting.ssr.max_roughness",
-            ),
-            (SsrSettings { samples: 0, ..a }, "lighting.ssr.samples"),
-            (SsrSettings { max_steps: 3, ..a }, "lighting.ssr.max_steps"),
-            (
-                SsrSettings {
-                    thickness_m: 0.0,
-                    ..a
-                },
-                "lighting.ssr.thickness_m",
-            ),
-            (
-                SsrSettings {
-                    edge_fade: f64::NAN,
-                    ..a
-                },
-                "lighting.ssr.edge_fade",
-            ),
-        ] {
-            assert_eq!(bad.validate().unwrap_err().field, field);
-        }
+        crate::scene_error::assert_rejected(
+            [
+                (
+                    SsrSettings {
+                        max_roughness: 1.5,
+                        ..a
+                    },
+                    "lighting.ssr.max_roughness",
+                ),
+                (SsrSettings { samples: 0, ..a }, "lighting.ssr.samples"),
+                (SsrSettings { max_steps: 3, ..a }, "lighting.ssr.max_steps"),
+                (
+                    SsrSettings {
+                        thickness_m: 0.0,
+                        ..a
+                    },
+                    "lighting.ssr.thickness_m",
+                ),
+                (
+                    SsrSettings {
+                        edge_fade: f64::NAN,
+                        ..a
+                    },
+                    "lighting.ssr.edge_fade",
+                ),
+            ],
+            SsrSettings::validate,
+        );
     }
 
     #[test]

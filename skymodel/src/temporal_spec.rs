@@ -20,7 +20,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::scene_error::{check_range, SceneError};
+use crate::scene_error::{check_ranges, SceneError};
 
 /// The temporal filter (`lighting.temporal`; runs with `--effects temporal`).
 #[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
@@ -60,7 +60,7 @@ impl Default for TemporalSettings {
 impl TemporalSettings {
     /// Checks every value against its documented range, naming the field.
     pub fn validate(&self) -> Result<(), SceneError> {
-        for (f, v, lo, hi) in [
+        check_ranges(&[
             (
                 "lighting.temporal.max_frames",
                 self.max_frames as f64,
@@ -79,10 +79,7 @@ impl TemporalSettings {
                 0.001,
                 1.0,
             ),
-        ] {
-            check_range(f, v, lo, hi)?;
-        }
-        Ok(())
+        ])
     }
 }
 
@@ -94,35 +91,36 @@ mod tests {
     fn defaults_and_ranges() {
         let a = TemporalSettings::default();
         assert!(a.validate().is_ok());
-        for (bad, field) in [
-            (
-                TemporalSettings { max_frames: 0, ..a },
-                "lighting.temporal.max_frames",
-            ),
-            (
-                TemporalSettings {
-                    max_frames: 257,
-                    ..a
-                },
-                "lighting.temporal.max_frames",
-            ),
-            (
-                TemporalSettings {
-                    variance_gamma: f64::NAN,
-                    ..a
-                },
-                "lighting.temporal.variance_gamma",
-            ),
-            (
-                TemporalSettings {
-                    depth_tolerance: 0.0,
-                    ..a
-                },
-                "lighting.temporal.depth_tolerance",
-            ),
-        ] {
-            assert_eq!(bad.validate().unwrap_err().field, field);
-        }
+        crate::scene_error::assert_rejected(
+            [
+                (
+                    TemporalSettings { max_frames: 0, ..a },
+                    "lighting.temporal.max_frames",
+                ),
+                (
+                    TemporalSettings {
+                        max_frames: 257,
+                        ..a
+                    },
+                    "lighting.temporal.max_frames",
+                ),
+                (
+                    TemporalSettings {
+                        variance_gamma: f64::NAN,
+                        ..a
+                    },
+                    "lighting.temporal.variance_gamma",
+                ),
+                (
+                    TemporalSettings {
+                        depth_tolerance: 0.0,
+                        ..a
+                    },
+                    "lighting.temporal.depth_tolerance",
+                ),
+            ],
+            TemporalSettings::validate,
+        );
     }
 
     #[test]

@@ -89,6 +89,24 @@ fn setup(field: &str) -> Setup {
     }
 }
 
+/// The Suns of the setup's references: each one's name (the references'
+/// prefix, e.g. `sun60`) and its direction ([`towards`] its altitude and
+/// azimuth).
+fn suns(s: &Setup) -> Vec<(&str, Vec3)> {
+    s.v["suns"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|sun| {
+            let l = towards(
+                sun["alt_deg"].as_f64().unwrap(),
+                sun["az_deg"].as_f64().unwrap(),
+            );
+            (sun["name"].as_str().unwrap(), l)
+        })
+        .collect()
+}
+
 /// Sub-samples per pixel side: Mitsuba's box filter averages over the
 /// pixel, so Himmel's images average an n × n grid of sub-pixel samples.
 const SUB: usize = 3;
@@ -299,12 +317,7 @@ fn radiance_bound(model: &str, sun: &str) -> f64 {
 fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
     let s = setup(TEST_FIELD);
     let mut failures = Vec::new();
-    for sun in s.v["suns"].as_array().unwrap() {
-        let name = sun["name"].as_str().unwrap();
-        let l = towards(
-            sun["alt_deg"].as_f64().unwrap(),
-            sun["az_deg"].as_f64().unwrap(),
-        );
+    for (name, l) in suns(&s) {
         let mut n = 0;
         for (model, scattering) in [
             ("column", MultipleScattering::Diffusion(DIFFUSION)),
@@ -353,12 +366,7 @@ fn cloud_radiance_and_sun_transmittance_match_mitsuba() {
 fn the_field_the_constants_were_chosen_on() {
     let s = setup(TUNING_FIELD);
     let mut failures = Vec::new();
-    for sun in s.v["suns"].as_array().unwrap() {
-        let name = sun["name"].as_str().unwrap();
-        let l = towards(
-            sun["alt_deg"].as_f64().unwrap(),
-            sun["az_deg"].as_f64().unwrap(),
-        );
+    for (name, l) in suns(&s) {
         let bound = if name == "sun60" { 0.10 } else { 0.21 };
         let (n, e) = radiance_error(
             &s,
@@ -389,12 +397,7 @@ fn the_height_field_tier_against_mitsuba() {
     let mut failures = Vec::new();
     for field in [TEST_FIELD, TUNING_FIELD] {
         let s = setup(field);
-        for sun in s.v["suns"].as_array().unwrap() {
-            let name = sun["name"].as_str().unwrap();
-            let l = towards(
-                sun["alt_deg"].as_f64().unwrap(),
-                sun["az_deg"].as_f64().unwrap(),
-            );
+        for (name, l) in suns(&s) {
             let hf = HeightField::build(&s.field, &s.shell, &[l], &s.settings);
             let bound = height_field_bound(field, name);
             let (n, e) = radiance_error(
@@ -460,12 +463,7 @@ fn the_diffusion_grid_against_mitsuba() {
     let mut failures = Vec::new();
     for field in [TEST_FIELD, TUNING_FIELD] {
         let s = setup(field);
-        for sun in s.v["suns"].as_array().unwrap() {
-            let name = sun["name"].as_str().unwrap();
-            let l = towards(
-                sun["alt_deg"].as_f64().unwrap(),
-                sun["az_deg"].as_f64().unwrap(),
-            );
+        for (name, l) in suns(&s) {
             let t = std::time::Instant::now();
             let grid = DiffusionGrid::build(&s.field, &s.shell, l, &GRID).unwrap();
             println!(

@@ -20,10 +20,11 @@ mod wgpu_common;
 mod world_common;
 
 use himmel_skymodel::renderer::PassStat;
-use himmel_skymodel::{AoSettings, Effect, Scene, SkyRenderer, SkyState};
-use serde_json::Value;
+use himmel_skymodel::{AoSettings, Effect, Scene};
+use world_common::cases::{case, root};
 use world_common::metrics::{luminance, mask_channel, mean_relative_error, read_exr, RgbImage};
 use world_common::metrics::{GEOMETRY, SUNLIT};
+use world_common::render::render_world;
 
 const CASE: &str = "plane_and_boxes_high";
 
@@ -38,27 +39,9 @@ const BOUND: f64 = 0.10;
 /// the floor below the image's bottom edge and behind the camera).
 const BOUND_ALL: f64 = 0.30;
 
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
-
-fn case(name: &str) -> Value {
-    let cases: Value = serde_json::from_str(
-        &std::fs::read_to_string(root().join("tools/world_cases.json")).unwrap(),
-    )
-    .unwrap();
-    cases["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap()
-        .clone()
-}
-
 /// The case's scene with `ao` among the effects when `ao`, and `bounce`.
 fn scene(ao: bool, bounce: Option<AoSettings>) -> Scene {
-    let mut s = world_common::cases::case_scene(&case(CASE));
+    let mut s = world_common::cases::case_scene(&case("tools/world_cases.json", CASE));
     if ao {
         s.effects.push(Effect::Ao);
     }
@@ -69,21 +52,9 @@ fn scene(ao: bool, bounce: Option<AoSettings>) -> Scene {
 
 /// The frame of `s` and its `bounce` entry in `--stats` (if any).
 fn render(s: &Scene) -> (RgbImage, Option<PassStat>) {
-    let world =
-        himmel_world::gltf_io::load(&root().join(s.world.as_ref().unwrap().gltf.as_str())).unwrap();
-    let state = SkyState::at(s).unwrap();
-    let out = {
-        let mut r = wgpu_common::gpu();
-        r.set_world(&world);
-        r.render(s, &state).unwrap()
-    };
+    let out = render_world(&mut wgpu_common::gpu(), s);
     let stat = out.passes.iter().find(|p| p.name == "bounce").cloned();
-    let img = RgbImage {
-        width: out.image.width,
-        height: out.image.height,
-        pixels: out.image.pixels,
-    };
-    (img, stat)
+    (out.image.into(), stat)
 }
 
 struct Measured {

@@ -19,14 +19,12 @@
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{Scene, SkyRenderer, SkyState};
+use himmel_skymodel::Scene;
 use serde_json::Value;
-use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage};
+use world_common::cases::root;
+use world_common::metrics::{flip, mask_channel, mean_relative_error, RgbImage};
 use world_common::metrics::{SKYLIT, SUNLIT};
-
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+use world_common::render::{render_world, world_reference};
 
 /// The scene of a case (as its `himmel_args`).
 fn case_scene(c: &Value) -> Scene {
@@ -48,26 +46,13 @@ fn case_scene(c: &Value) -> Scene {
 /// (case, lit error, sky-lit error, FLIP).
 fn measure(c: &Value) -> (String, f64, f64, f64) {
     let name = c["name"].as_str().unwrap().to_string();
-    let s = case_scene(c);
-    let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
-    let state = SkyState::at(&s).unwrap();
-    let out = {
-        let mut r = wgpu_common::gpu();
-        r.set_world(&world);
-        r.render(&s, &state).unwrap()
-    };
+    let out = render_world(&mut wgpu_common::gpu(), &case_scene(c));
     if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
         let p = std::path::Path::new(&d).join(format!("{name}.exr"));
         himmel_cpu::output::write_exr(&p, &out.image).unwrap();
     }
-    let img = RgbImage {
-        width: out.image.width,
-        height: out.image.height,
-        pixels: out.image.pixels,
-    };
-    let dir = root().join("tests/fixtures/world_ref");
-    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
-    let mask = read_exr(dir.join(format!("{name}_mask.exr"))).unwrap();
+    let img = RgbImage::from(out.image);
+    let (reference, mask) = world_reference(&name);
     let lit = mean_relative_error(&img, &reference, &mask_channel(&mask, SUNLIT));
     let sky = mean_relative_error(&img, &reference, &mask_channel(&mask, SKYLIT));
     let f = flip(&img, &reference, None);

@@ -30,14 +30,11 @@
 mod wgpu_common;
 mod world_common;
 
-use himmel_skymodel::{AoSettings, Effect, ShSky, SkyOcclusion, SkyRenderer, SkyState};
-use serde_json::Value;
-use world_common::metrics::{luminance, mask_channel, mean_relative_error, read_exr};
+use himmel_skymodel::{AoSettings, Effect, ShSky, SkyOcclusion};
+use world_common::cases::case;
+use world_common::metrics::{luminance, mask_channel, mean_relative_error};
 use world_common::metrics::{RgbImage, SKYLIT};
-
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+use world_common::render::{render_world, world_reference};
 
 /// (case, its file of cases): the atrium from above and towards the low
 /// Sun's wall (`tools/s3ho_cases.json`), and the plane with boxes under the
@@ -68,18 +65,6 @@ fn settings() -> AoSettings {
 /// away) are within reach.
 const RADIUS_M: f64 = 20.0;
 
-fn case((name, file): (&str, &str)) -> Value {
-    let cases: Value =
-        serde_json::from_str(&std::fs::read_to_string(root().join(file)).unwrap()).unwrap();
-    cases["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap()
-        .clone()
-}
-
 /// One render of a case with S3HO on or off.
 struct Measured {
     /// The sky-lit pixels' error against Mitsuba.
@@ -105,8 +90,8 @@ fn label(sh: Option<ShSky>) -> &'static str {
 
 /// One render of a case: scalar AO (`None`) or S3HO with this weighting.
 fn measure(which: (&str, &str), sh: Option<ShSky>) -> Measured {
-    let c = case(which);
-    let name = which.0;
+    let (name, file) = which;
+    let c = case(file, name);
     let mut s = world_common::cases::case_scene(&c);
     s.effects.push(Effect::Ao);
     s.lighting.sky.occlusion = SkyOcclusion::Ao;
@@ -117,12 +102,9 @@ fn measure(which: (&str, &str), sh: Option<ShSky>) -> Measured {
         ..settings()
     };
     s.lighting.validate().unwrap();
-    let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
-    let state = SkyState::at(&s).unwrap();
     let (out, ao_img) = {
         let mut r = wgpu_common::gpu();
-        r.set_world(&world);
-        let out = r.render(&s, &state).unwrap();
+        let out = render_world(&mut r, &s);
         (out, r.ao_image().unwrap().expect("the ao pass ran"))
     };
     let pass = |name: &str| out.passes.iter().find(|p| p.name == name).unwrap();
@@ -139,17 +121,9 @@ fn measure(which: (&str, &str), sh: Option<ShSky>) -> Measured {
         let p = std::path::Path::new(&d).join(format!("{name}_{}.exr", label(sh)));
         himmel_cpu::output::write_exr(&p, &out.image).unwrap();
     }
-    let img = RgbImage {
-        width: out.image.width,
-        height: out.image.height,
-        pixels: out.image.pixels,
-    };
-    let dir = root().join("tests/fixtures/world_ref");
-    let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
-    let mask = mask_channel(
-        &read_exr(dir.join(format!("{name}_mask.exr"))).unwrap(),
-        SKYLIT,
-    );
+    let img = RgbImage::from(out.image);
+    let (reference, mask) = world_reference(name);
+    let mask = mask_channel(&mask, SKYLIT);
     assert!(mask.iter().filter(|m| **m).count() > 1_000);
     Measured {
         err: mean_relative_error(&img, &reference, &mask),

@@ -25,11 +25,9 @@ mod world_common;
 use himmel_skymodel::{Effect, SkyRenderer, SkyState, SsrSettings};
 use himmel_wgpu::WgpuRenderer;
 use serde_json::Value;
+use world_common::cases::{case, root};
 use world_common::metrics::{flip, mask_channel, mean_relative_error, read_exr, RgbImage, SKYLIT};
-
-fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+use world_common::render::render_world;
 
 const CASES: [&str; 2] = ["glossy_floor_005", "glossy_floor_030"];
 
@@ -40,20 +38,6 @@ const BOUND: [f64; 2] = [0.074, 0.119];
 /// The least share of the reference's reflecting pixels (the mirror ray
 /// meets geometry) that the pass must reach with confidence ≥ 0.5.
 const HITS: [f64; 2] = [0.8, 0.5];
-
-fn case(name: &str) -> Value {
-    let cases: Value = serde_json::from_str(
-        &std::fs::read_to_string(root().join("tools/ssr_cases.json")).unwrap(),
-    )
-    .unwrap();
-    cases["cases"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .find(|c| c["name"] == name)
-        .unwrap()
-        .clone()
-}
 
 struct Frame {
     image: RgbImage,
@@ -69,19 +53,12 @@ fn frame(r: &mut WgpuRenderer, c: &Value, ssr: Option<SsrSettings>) -> Frame {
         s.lighting.ssr = q;
     }
     s.lighting.validate().unwrap();
-    let world = himmel_world::gltf_io::load(&root().join(c["world"].as_str().unwrap())).unwrap();
-    let state = SkyState::at(&s).unwrap();
-    r.set_world(&world);
-    let out = r.render(&s, &state).unwrap();
+    let out = render_world(r, &s);
     let stat = out.passes.iter().find(|p| p.name == "ssr").unwrap();
     assert_eq!(stat.ran, ssr.is_some(), "{:?}", stat.reason);
     assert_eq!(out.passes.iter().filter(|p| p.name == "ssr").count(), 1);
     let confidence = ssr.map(|_| r.ssr_image().unwrap().expect("ran").confidence);
-    let image = RgbImage {
-        width: out.image.width,
-        height: out.image.height,
-        pixels: out.image.pixels,
-    };
+    let image = RgbImage::from(out.image);
     if let Some(d) = std::env::var_os("HIMMEL_TEST_OUT") {
         let tag = if ssr.is_some() { "ssr" } else { "env" };
         let name = c["name"].as_str().unwrap();
@@ -123,7 +100,7 @@ struct Measured {
 }
 
 fn measure(r: &mut WgpuRenderer, name: &str, settings: SsrSettings) -> Measured {
-    let c = case(name);
+    let c = case("tools/ssr_cases.json", name);
     let dir = root().join("tests/fixtures/ssr_ref");
     let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
     let reflects = mask_channel(
@@ -214,7 +191,7 @@ fn ssr_against_mitsuba() {
 #[test]
 fn ssr_reads_the_previous_frame() {
     let name = CASES[0];
-    let c = case(name);
+    let c = case("tools/ssr_cases.json", name);
     let dir = root().join("tests/fixtures/ssr_ref");
     let reference = read_exr(dir.join(format!("{name}.exr"))).unwrap();
     let reflects = mask_channel(
@@ -239,11 +216,7 @@ fn ssr_reads_the_previous_frame() {
             .zip(&conf)
             .map(|(m, c)| *m && *c >= 0.5)
             .collect();
-        let img = RgbImage {
-            width: out.image.width,
-            height: out.image.height,
-            pixels: out.image.pixels,
-        };
+        let img = RgbImage::from(out.image);
         errors.push(mean_relative_error(&img, &reference, &mask));
     }
     println!(
@@ -259,7 +232,7 @@ fn ssr_reads_the_previous_frame() {
 #[test]
 fn ssr_runs_only_for_smooth_materials() {
     let mut r = wgpu_common::gpu();
-    let c = case("glossy_floor_030");
+    let c = case("tools/ssr_cases.json", "glossy_floor_030");
     for (world, max) in [("plane_and_boxes.glb", 1.0), ("glossy_floor_030.glb", 0.2)] {
         let mut s = world_common::cases::case_scene(&c);
         s.effects.push(Effect::Ssr);

@@ -4,6 +4,26 @@
 use himmel_skymodel::{Effect, Projection, Scene, WorldSpec};
 use serde_json::Value;
 
+/// The repository's root: the cases' files, their worlds and the
+/// references are named relative to it.
+pub fn root() -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// The case `name` of the cases file `file` (relative to the root, e.g.
+/// `tools/world_cases.json`): an entry of its `cases` array.
+pub fn case(file: &str, name: &str) -> Value {
+    let cases: Value =
+        serde_json::from_str(&std::fs::read_to_string(root().join(file)).unwrap()).unwrap();
+    cases["cases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["name"] == name)
+        .unwrap_or_else(|| panic!("no case {name} in {file}"))
+        .clone()
+}
+
 /// A JSON array of three numbers.
 pub fn triple(v: &Value) -> [f64; 3] {
     [0, 1, 2].map(|k| v[k].as_f64().expect("a number"))

@@ -39,6 +39,18 @@ pub struct RgbImage {
     pub pixels: Vec<[f32; 3]>,
 }
 
+/// A render's RGB pixels (its validity mask dropped: the references cover
+/// every pixel).
+impl From<himmel_skymodel::HdrImage> for RgbImage {
+    fn from(image: himmel_skymodel::HdrImage) -> Self {
+        RgbImage {
+            width: image.width,
+            height: image.height,
+            pixels: image.pixels,
+        }
+    }
+}
+
 impl RgbImage {
     /// An image of `width` × `height` pixels from a function of (x, y).
     pub fn from_fn(width: usize, height: usize, f: impl Fn(usize, usize) -> [f32; 3]) -> Self {

@@ -6,5 +6,6 @@
 
 pub mod cases;
 pub mod metrics;
+pub mod render;
 pub mod shafts;
 pub mod view;

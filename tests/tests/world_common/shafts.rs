@@ -15,9 +15,7 @@ pub fn cases() -> Value {
 }
 
 /// The workspace's root.
-pub fn root() -> std::path::PathBuf {
-    std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..")
-}
+pub use super::cases::root;
 
 /// The case's scene with its fog, and `godrays` when given.
 pub fn case_scene(c: &Value, godrays: Option<GodraysSettings>) -> Scene {

@@ -156,6 +156,7 @@ fn pipes(gpu: &Gpu) -> AoPipes {
     let module = gpu.shader(
         "ao.wgsl",
         concat!(
+            include_str!("../../shaders/lighting/screen.wgsl"),
             include_str!("../../shaders/lighting/ao.wgsl"),
             include_str!("../../shaders/lighting/ao_hbao.wgsl")
         ),

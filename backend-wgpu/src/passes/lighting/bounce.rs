@@ -70,7 +70,10 @@ fn pipes(gpu: &Gpu) -> Pipes {
     );
     let module = gpu.shader(
         "bounce.wgsl",
-        include_str!("../../shaders/lighting/bounce.wgsl"),
+        concat!(
+            include_str!("../../shaders/lighting/screen.wgsl"),
+            include_str!("../../shaders/lighting/bounce.wgsl")
+        ),
     );
     let pl = gpu.pipeline_layout("bounce", &[&layout]);
     Pipes {

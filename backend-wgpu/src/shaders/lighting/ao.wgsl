@@ -83,7 +83,7 @@ struct Ao {
     q2: vec4<u32>,
 }
 
-@group(0) @binding(0) var<uniform> a: Ao;
+@group(0) @binding(0) var<uniform> u: Ao;
 @group(0) @binding(1) var g_distance: texture_2d<f32>;
 @group(0) @binding(2) var g_normal: texture_2d<f32>;
 @group(0) @binding(3) var g_material: texture_2d<u32>;
@@ -107,42 +107,22 @@ const FALLOFF: f32 = 0.1;
 // Quadrature points of the bent normal's integral over a slice's arc.
 const BENT_POINTS: u32 = 16u;
 
-fn size() -> vec2<i32> {
-    return vec2<i32>(i32(a.right.w), i32(a.up.w));
-}
+// The image's size, view rays and projection (`size`, `ray_at`, `project`):
+// screen.wgsl, concatenated before this.
 
 fn on_screen(q: vec2<i32>) -> bool {
     return all(q >= vec2<i32>(0)) && all(q < size());
 }
 
-// The view ray through the pixel position c (pixel centres at k + ½) of
-// the jittered image.
-fn ray_at(c: vec2<f32>) -> vec3<f32> {
-    let h = a.up.w;
-    let t = a.eye.w;
-    let nx = (c.x - a.params.z - 0.5 * a.right.w) / (0.5 * h) * t;
-    let ny = -(c.y - a.params.w - 0.5 * h) / (0.5 * h) * t;
-    return normalize(a.forward.xyz + a.right.xyz * nx + a.up.xyz * ny);
-}
-
 // The surface point pixel q shows.
 fn position(q: vec2<i32>) -> vec3<f32> {
-    return a.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
-}
-
-// The pixel position of world point x (and its view depth in z).
-fn project(x: vec3<f32>) -> vec3<f32> {
-    let d = x - a.eye.xyz;
-    let z = dot(d, a.forward.xyz);
-    let h = a.up.w;
-    let k = 0.5 * h / (a.eye.w * max(z, 1e-6));
-    return vec3<f32>(dot(d, a.right.xyz) * k + 0.5 * a.right.w + a.params.z, -dot(d, a.up.xyz) * k + 0.5 * h + a.params.w, z);
+    return u.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
 }
 
 // Interleaved gradient noise (Jimenez 2014), in [0, 1); moved by 5.588238
 // px per frame of a temporal run (his animated form).
 fn ign(q: vec2<u32>) -> f32 {
-    let f = vec2<f32>(q) + 5.588238 * f32(a.q2.y);
+    let f = vec2<f32>(q) + 5.588238 * f32(u.q2.y);
     return fract(52.9829189 * fract(0.06711056 * f.x + 0.00583715 * f.y));
 }
 
@@ -162,12 +142,12 @@ fn sh8(d: vec3<f32>) -> array<f32, 8> {
 }
 
 fn sh_on() -> bool {
-    return a.q2.z != 0u;
+    return u.q2.z != 0u;
 }
 
 // S3HO weights the blocked arcs by the sky's radiance (`sh_sky` `radiance`).
 fn radiance_on() -> bool {
-    return a.q2.z == 2u;
+    return u.q2.z == 2u;
 }
 
 // B_1,-1 … B_2,2 packed as f16 pairs, or E_b as three f32.
@@ -264,7 +244,7 @@ fn slice_at(s: u32, slices: u32, rot: f32, v: vec3<f32>, n: vec3<f32>) -> Slice 
     out.ok = false;
     let phi = (f32(s) + rot) / f32(slices) * PI;
     out.dir2 = vec2<f32>(cos(phi), sin(phi));
-    let dir3 = a.right.xyz * out.dir2.x - a.up.xyz * out.dir2.y;
+    let dir3 = u.right.xyz * out.dir2.x - u.up.xyz * out.dir2.y;
     let o = dir3 - v * dot(dir3, v);
     if dot(o, o) < 1e-12 {
         return out;
@@ -397,20 +377,31 @@ fn bitmask_slice(bits: u32, v: vec3<f32>, sl: Slice) -> vec4<f32> {
     return vec4<f32>(m * sl.nlen, open * sl.nlen);
 }
 
+// How gtao and hbao walk a pixel's slices: their number, the samples per
+// side, the slices' angular offset (over a 4 × 4 pixel pattern, turned by
+// the golden ratio per frame of a run) and the samples' jitter.
+struct SliceWalk {
+    slices: u32,
+    steps: u32,
+    rot: f32,
+    jit: f32,
+}
+
+fn slice_walk(px: vec2<i32>) -> SliceWalk {
+    let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(u.q2.y));
+    return SliceWalk(max(u.q.y, 1u), max(u.q.z, 1u), rot, ign(vec2<u32>(px)));
+}
+
 fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
-    let radius = a.params.x;
-    let v = normalize(a.eye.xyz - p);
-    let slices = max(a.q.y, 1u);
-    let steps = max(a.q.z, 1u);
-    // The slices' angles turn by the golden ratio per frame of a run.
-    let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(a.q2.y));
-    let jit = ign(vec2<u32>(px));
-    let thickness = a.params.y;
+    let radius = u.params.x;
+    let v = normalize(u.eye.xyz - p);
+    let walk = slice_walk(px);
+    let thickness = u.params.y;
     var vis = 0.0;
     var norm = 0.0;
     var bent = vec3<f32>(0.0);
-    for (var s = 0u; s < slices; s++) {
-        let sl = slice_at(s, slices, rot, v, n);
+    for (var s = 0u; s < walk.slices; s++) {
+        let sl = slice_at(s, walk.slices, walk.rot, v, n);
         if !sl.ok {
             continue;
         }
@@ -425,8 +416,8 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
             // The slice's line in the tangent plane on this side.
             let tangent = v * low + ortho * sin(h[side]);
             var best = low;
-            for (var k = 0u; k < steps; k++) {
-                let smp = slice_sample(p, px, sl, sgn, (f32(k) + jit) / f32(steps), r_px);
+            for (var k = 0u; k < walk.steps; k++) {
+                let smp = slice_sample(p, px, sl, sgn, (f32(k) + walk.jit) / f32(walk.steps), r_px);
                 if smp.stop {
                     break;
                 }
@@ -441,7 +432,7 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
                         // The back's angle: the front's (put into the
                         // slice) moved by what T along the view ray turns
                         // the point as the slice's plane sees it.
-                        let back = delta + normalize(p + delta - a.eye.xyz) * thickness;
+                        let back = delta + normalize(p + delta - u.eye.xyz) * thickness;
                         let turn = plane_angle(back, v, sl) - plane_angle(delta, v, sl);
                         let uf = sector_of(ds, v, sl);
                         bits |= sector_bits(uf, uf + turn / PI);
@@ -505,8 +496,8 @@ fn gtao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
 }
 
 fn ssao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, dist: f32) -> vec4<f32> {
-    let radius = a.params.x;
-    let count = max(a.q.w, 1u);
+    let radius = u.params.x;
+    let count = max(u.q.w, 1u);
     // A tangent frame about n, rotated per pixel.
     let up = select(vec3<f32>(0.0, 1.0, 0.0), vec3<f32>(1.0, 0.0, 0.0), abs(n.y) > 0.9);
     let t0 = normalize(cross(up, n));
@@ -533,7 +524,7 @@ fn ssao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, dist: f32) -> vec4<f32> {
         var blocked = false;
         if on_screen(q) && c.z > 0.0 && textureLoad(g_material, q, 0).x != 0u {
             let surf = textureLoad(g_distance, q, 0).x;
-            let xd = length(x - a.eye.xyz);
+            let xd = length(x - u.eye.xyz);
             blocked = surf < xd - 1e-3 * radius && abs(eye_dist - surf) < radius;
         }
         if !blocked {
@@ -564,10 +555,10 @@ fn occlude(@builtin(global_invocation_id) gid: vec3<u32>) {
     let dist = textureLoad(g_distance, px, 0).x;
     let n = normalize(textureLoad(g_normal, px, 0).xyz);
     let ray = ray_at(vec2<f32>(px) + 0.5);
-    let p = a.eye.xyz + ray * dist;
+    let p = u.eye.xyz + ray * dist;
     // R in pixels at this depth.
-    let z = max(dist * dot(ray, a.forward.xyz), 1e-6);
-    let r_px = a.params.x * 0.5 * a.up.w / (a.eye.w * z);
+    let z = max(dist * dot(ray, u.forward.xyz), 1e-6);
+    let r_px = u.params.x * 0.5 * u.up.w / (u.eye.w * z);
     if r_px < 1.0 {
         // The radius is below a pixel: nothing the G-buffer resolves.
         textureStore(ao_out, px, vec4<f32>(n, 1.0));
@@ -576,12 +567,12 @@ fn occlude(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         return;
     }
-    if a.q.x == 1u {
+    if u.q.x == 1u {
         textureStore(ao_out, px, gtao(px, p, n, r_px));
         if sh_on() {
             textureStore(sh_out, px, pack_sh(sh_sum));
         }
-    } else if a.q.x == 2u {
+    } else if u.q.x == 2u {
         textureStore(ao_out, px, hbao(px, p, n, r_px));
     } else {
         textureStore(ao_out, px, ssao(px, p, n, dist));
@@ -605,7 +596,7 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
     let dist = textureLoad(g_distance, px, 0).x;
     let n = normalize(textureLoad(g_normal, px, 0).xyz);
     let p = position(px);
-    let r = i32(a.q2.x);
+    let r = i32(u.q2.x);
     var acc = vec4<f32>(0.0);
     var wsum = 0.0;
     for (var dy = -r; dy <= r; dy++) {

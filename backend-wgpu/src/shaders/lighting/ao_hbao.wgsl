@@ -21,17 +21,14 @@
 // normal (`open_moment`) are ao.wgsl's, shared with gtao.
 
 fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
-    let radius = a.params.x;
-    let v = normalize(a.eye.xyz - p);
-    let slices = max(a.q.y, 1u);
-    let steps = max(a.q.z, 1u);
-    let rot = fract((f32(bayer4(vec2<u32>(px))) + 0.5) / 16.0 + 0.618034 * f32(a.q2.y));
-    let jit = ign(vec2<u32>(px));
+    let radius = u.params.x;
+    let v = normalize(u.eye.xyz - p);
+    let walk = slice_walk(px);
     var occluded = 0.0;
     var dirs = 0.0;
     var bent = vec3<f32>(0.0);
-    for (var s = 0u; s < slices; s++) {
-        let sl = slice_at(s, slices, rot, v, n);
+    for (var s = 0u; s < walk.slices; s++) {
+        let sl = slice_at(s, walk.slices, walk.rot, v, n);
         if !sl.ok {
             continue;
         }
@@ -44,8 +41,8 @@ fn hbao(px: vec2<i32>, p: vec3<f32>, n: vec3<f32>, r_px: f32) -> vec4<f32> {
             var sin_h = cos(h[side]);
             let tangent = v * sin_h + sl.ortho * sin(h[side]);
             var ao = 0.0;
-            for (var k = 0u; k < steps; k++) {
-                let smp = slice_sample(p, px, sl, sgn, (f32(k) + jit) / f32(steps), r_px);
+            for (var k = 0u; k < walk.steps; k++) {
+                let smp = slice_sample(p, px, sl, sgn, (f32(k) + walk.jit) / f32(walk.steps), r_px);
                 if smp.stop {
                     break;
                 }

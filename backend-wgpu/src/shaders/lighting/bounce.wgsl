@@ -41,7 +41,7 @@ struct Bounce {
     q: vec4<u32>,
 }
 
-@group(0) @binding(0) var<uniform> b: Bounce;
+@group(0) @binding(0) var<uniform> u: Bounce;
 @group(0) @binding(1) var g_distance: texture_2d<f32>;
 @group(0) @binding(2) var g_normal: texture_2d<f32>;
 @group(0) @binding(3) var g_base: texture_2d<f32>;
@@ -57,40 +57,20 @@ const PI: f32 = 3.14159265358979;
 // The golden angle as a fraction of a turn, (3 − √5) / 2.
 const GOLDEN: f32 = 0.38196601125;
 
-fn size() -> vec2<i32> {
-    return vec2<i32>(i32(b.right.w), i32(b.up.w));
-}
-
-// The view ray through the pixel position c (centres at k + ½) of the
-// jittered image.
-fn ray_at(c: vec2<f32>) -> vec3<f32> {
-    let h = b.up.w;
-    let t = b.eye.w;
-    let nx = (c.x - b.params.z - 0.5 * b.right.w) / (0.5 * h) * t;
-    let ny = -(c.y - b.params.w - 0.5 * h) / (0.5 * h) * t;
-    return normalize(b.forward.xyz + b.right.xyz * nx + b.up.xyz * ny);
-}
-
-// The pixel position of world point x (and its view depth in z).
-fn project(x: vec3<f32>) -> vec3<f32> {
-    let d = x - b.eye.xyz;
-    let z = dot(d, b.forward.xyz);
-    let h = b.up.w;
-    let k = 0.5 * h / (b.eye.w * max(z, 1e-6));
-    return vec3<f32>(dot(d, b.right.xyz) * k + 0.5 * b.right.w + b.params.z, -dot(d, b.up.xyz) * k + 0.5 * h + b.params.w, z);
-}
+// The image's size, view rays and projection (`size`, `ray_at`, `project`):
+// screen.wgsl, concatenated before this.
 
 // Interleaved gradient noise (Jimenez 2014) in [0, 1), at an offset `o`
 // and moved by 5.588238 px per frame of a temporal run.
 fn ign(q: vec2<u32>, o: f32) -> f32 {
-    let f = vec2<f32>(q) + 5.588238 * f32(b.q.z) + o;
+    let f = vec2<f32>(q) + 5.588238 * f32(u.q.z) + o;
     return fract(52.9829189 * fract(0.06711056 * f.x + 0.00583715 * f.y));
 }
 
 // The radiance that the first surface along ω from p sends back, or 0.
 fn trace(p: vec3<f32>, n: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec3<f32> {
-    let steps = max(b.q.y, 1u);
-    let r = b.params.x;
+    let steps = max(u.q.y, 1u);
+    let r = u.params.x;
     // Whether the last point looked at lay in front of the surface there.
     var front = true;
     for (var k = 0u; k < steps; k++) {
@@ -107,7 +87,7 @@ fn trace(p: vec3<f32>, n: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec
         if all(q == me) || textureLoad(g_material, q, 0).x == 0u {
             continue;
         }
-        let zq = textureLoad(g_distance, q, 0).x * dot(ray_at(vec2<f32>(q) + 0.5), b.forward.xyz);
+        let zq = textureLoad(g_distance, q, 0).x * dot(ray_at(vec2<f32>(q) + 0.5), u.forward.xyz);
         // Behind the surface seen there, by less than the thickness: the
         // larger of two step lengths and 2 % of its depth (5 % let rays
         // passing behind a box at a distance pick up its sunlit face).
@@ -120,7 +100,7 @@ fn trace(p: vec3<f32>, n: vec3<f32>, w: vec3<f32>, me: vec2<i32>, j: f32) -> vec
         let crossed = front && behind < 2.0 * thick;
         if behind > 1e-3 * zq && (behind < thick || crossed) {
             let nq = textureLoad(g_normal, q, 0).xyz;
-            let pq = b.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
+            let pq = u.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
             if dot(nq, n) > 0.95 && abs(dot(pq - p, n)) < 0.02 * zq {
                 // p's own plane, seen at a grazing angle: a point just above
                 // it can lie behind the depth of the pixel's centre.
@@ -151,7 +131,7 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = normalize(textureLoad(g_normal, me, 0).xyz);
     let dist = textureLoad(g_distance, me, 0).x;
     // Off the surface by 0.1 % of the distance.
-    let p = b.eye.xyz + ray_at(vec2<f32>(me) + 0.5) * dist + n * (1e-3 * dist);
+    let p = u.eye.xyz + ray_at(vec2<f32>(me) + 0.5) * dist + n * (1e-3 * dist);
     // A tangent frame (Duff et al. 2017).
     let sg = select(-1.0, 1.0, n.z >= 0.0);
     let a0 = -1.0 / (sg + n.z);
@@ -160,7 +140,7 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let t2 = vec3<f32>(c0, sg + n.y * n.y * a0, -n.y);
     let turn = ign(gid.xy, 0.0);
     let j = ign(gid.xy, 17.0);
-    let count = max(b.q.x, 1u);
+    let count = max(u.q.x, 1u);
     var sum = vec3<f32>(0.0);
     for (var i = 0u; i < count; i++) {
         let u = (f32(i) + 0.5) / f32(count);
@@ -197,8 +177,8 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let n = normalize(textureLoad(g_normal, me, 0).xyz);
     let dist = textureLoad(g_distance, me, 0).x;
-    let p = b.eye.xyz + ray_at(vec2<f32>(me) + 0.5) * dist;
-    let r = i32(b.q.w);
+    let p = u.eye.xyz + ray_at(vec2<f32>(me) + 0.5) * dist;
+    let r = i32(u.q.w);
     var sum = vec3<f32>(0.0);
     var weight = 0.0;
     for (var dy = -r; dy <= r; dy++) {
@@ -208,7 +188,7 @@ fn blur(@builtin(global_invocation_id) gid: vec3<u32>) {
                 continue;
             }
             let nq = textureLoad(g_normal, q, 0).xyz;
-            let pq = b.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
+            let pq = u.eye.xyz + ray_at(vec2<f32>(q) + 0.5) * textureLoad(g_distance, q, 0).x;
             if dot(nq, n) < 0.906 || abs(dot(pq - p, n)) > 0.02 * dist {
                 continue;
             }
