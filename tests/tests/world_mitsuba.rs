@@ -76,15 +76,14 @@ fn worlds_against_mitsuba() {
     )
     .unwrap();
     // The goals (lit 3 %, sky-lit 5 %, FLIP 0.05) where this
-    // version meets them; elsewhere in the sun room (sky light through its
-    // window only) the bound is what this version achieves on lavapipe,
-    // with a margin of about a quarter (lit, sky-lit, FLIP).
+    // version meets them; the sun room's FLIP under the low Sun (sky light
+    // through its window only) is bounded at what this version achieves on
+    // lavapipe, with a margin of about a quarter.
     let goal = (0.03, 0.05, 0.05);
     let bounds = |name: &str| -> (f64, f64, f64) {
         match name {
-            "sun_room_high" => (0.01, 0.05, 0.08),
-            "sun_room_low" => (0.01, 0.075, 0.12),
-            "sun_room_night" => (0.01, 0.05, 0.08),
+            "sun_room_high" | "sun_room_night" => goal,
+            "sun_room_low" => (0.01, 0.05, 0.09),
             "atrium_high" | "atrium_low" | "atrium_night" => goal,
             "plane_and_boxes_high" | "plane_and_boxes_low" | "plane_and_boxes_night" => goal,
             other => panic!("no bounds for case {other}"),
