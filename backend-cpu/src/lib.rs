@@ -169,7 +169,12 @@ impl SkyRenderer for CpuRenderer {
         let mut pixels: Vec<[f32; 3]> = (0..w * h).into_par_iter().map(|_| [0.0f32; 3]).collect();
         let mut valid = vec![false; w * h];
         let mut geometry_ms = ms(tg);
-        let mut history = Some((&mut self.cloud_history, None));
+        // The low layer's history over a sequence (`clouds.low.reproject`).
+        let mut history = scene
+            .clouds
+            .low
+            .reproject
+            .then_some((&mut self.cloud_history, None));
         let mut stats = execute(
             &plan,
             scene,

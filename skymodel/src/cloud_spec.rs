@@ -115,6 +115,13 @@ pub struct LowCloudSpec {
     /// between four grid pixels that agree is interpolated from them, and
     /// the others (cloud edges) are marched.
     pub march_stride: u32,
+    /// Temporal reprojection over frame sequences (default true; CPU
+    /// backend, with `march_stride` ≥ 2): a renderer that draws frame after
+    /// frame marches a rotating quarter of the grid's coarse nodes and takes
+    /// the others from the last frame, moved with the wind, where that
+    /// still holds (`frame::CloudHistory`). false: every frame is marched
+    /// for itself (`--stats` `cloud_history` null).
+    pub reproject: bool,
     /// `volumetric` (default) or `heightfield`: the ray-marched volume or
     /// the cheap height-field tier.
     pub tier: LowCloudTier,
@@ -136,6 +143,7 @@ impl Default for LowCloudSpec {
             extent_km: 0.0,
             scattering: CloudScattering::Diffusion,
             march_stride: 1,
+            reproject: true,
             tier: LowCloudTier::Volumetric,
         }
     }
@@ -286,6 +294,8 @@ mod tests {
 
     #[test]
     fn tiers_parse() {
+        let l: LowCloudSpec = serde_json::from_str(r#"{"reproject": false}"#).unwrap();
+        assert!(!l.reproject && LowCloudSpec::default().reproject);
         let l: LowCloudSpec = serde_json::from_str(r#"{"tier": "heightfield"}"#).unwrap();
         assert_eq!(l.tier, LowCloudTier::Heightfield);
         assert_eq!(LowCloudSpec::default().tier, LowCloudTier::Volumetric);

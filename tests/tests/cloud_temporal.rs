@@ -229,4 +229,14 @@ fn the_history_is_dropped_when_the_frame_changes() {
     assert_eq!(miss(&mut r, &sky), None);
     r.clear_cloud_history();
     assert_eq!(miss(&mut r, &sky), Some(HistoryMiss::First));
+    // `clouds.low.reproject` false: no history, each frame the same image
+    // as a renderer of its own draws; turned on again, it starts afresh.
+    let mut off = sky.clone();
+    off.clouds.low.reproject = false;
+    for _ in 0..2 {
+        let (img, used) = render(&mut r, &off);
+        assert_eq!(used, None);
+        assert_eq!(img.pixels, alone(&off).pixels);
+    }
+    assert_eq!(miss(&mut r, &sky), Some(HistoryMiss::First));
 }
