@@ -14,8 +14,8 @@ mod world_common;
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::LutConfig;
 use himmel_skymodel::frame::{CloudFrame, LowCloudGrid, PixelDirections};
-use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
+use world_common::changes::{changes, p99};
 use world_common::metrics::{flip, RgbImage};
 
 /// Cumulus over Munich on a summer morning, fisheye `n` × `n`.
@@ -86,26 +86,6 @@ fn amortised_march_is_eight_times_cheaper_at_flip_005() {
     );
     assert!(saving >= 8.0, "only {saving:.1}× fewer marches");
     assert!(f <= 0.05, "FLIP {f:.4}");
-}
-
-/// The relative luminance change from `a` to `b` at each pixel the
-/// clouds change (where `a` differs from `clear` by more than 1 %).
-fn changes(a: &HdrImage, b: &HdrImage, clear: &HdrImage) -> Vec<Option<f64>> {
-    let y = |p: [f32; 3]| f64::from(luminance(p));
-    a.pixels
-        .iter()
-        .zip(&b.pixels)
-        .zip(&clear.pixels)
-        .map(|((p, q), c)| {
-            ((y(*p) - y(*c)).abs() > 0.01 * y(*c).max(1e-9))
-                .then(|| (y(*q) - y(*p)) / y(*p).max(1e-9))
-        })
-        .collect()
-}
-
-fn p99(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() * 99 / 100).copied().unwrap_or(f64::NAN)
 }
 
 /// A Sun moving 0.25° per frame over static clouds: the amortised frames

@@ -23,8 +23,8 @@ mod world_common;
 use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::LutConfig;
 use himmel_skymodel::frame::{HistoryMiss, HistoryUse};
-use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
+use world_common::changes::{changes, p99};
 use world_common::metrics::{flip, RgbImage};
 
 /// Cumulus over Munich on a summer morning, fisheye `n` × `n`, wind
@@ -66,26 +66,6 @@ fn rgb(img: &HdrImage) -> RgbImage {
 fn utc(k: u32, step_s: u32) -> String {
     let t = k * step_s;
     format!("2024-06-21T08:{:02}:{:02}Z", t / 60, t % 60)
-}
-
-/// The relative luminance change from `a` to `b` at each pixel the
-/// clouds change (where `a` differs from `clear` by more than 1 %).
-fn changes(a: &HdrImage, b: &HdrImage, clear: &HdrImage) -> Vec<Option<f64>> {
-    let y = |p: [f32; 3]| f64::from(luminance(p));
-    a.pixels
-        .iter()
-        .zip(&b.pixels)
-        .zip(&clear.pixels)
-        .map(|((p, q), c)| {
-            ((y(*p) - y(*c)).abs() > 0.01 * y(*c).max(1e-9))
-                .then(|| (y(*q) - y(*p)) / y(*p).max(1e-9))
-        })
-        .collect()
-}
-
-fn p99(mut v: Vec<f64>) -> f64 {
-    v.sort_by(f64::total_cmp);
-    v.get(v.len() * 99 / 100).copied().unwrap_or(f64::NAN)
 }
 
 /// A Sun moving 6 s (0.025°) per frame over static clouds: with the

@@ -5,6 +5,7 @@
 #![allow(dead_code)]
 
 pub mod cases;
+pub mod changes;
 pub mod metrics;
 pub mod render;
 pub mod shafts;
