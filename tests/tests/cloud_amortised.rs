@@ -15,7 +15,7 @@ use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::LutConfig;
 use himmel_skymodel::frame::{CloudFrame, LowCloudGrid, PixelDirections};
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
-use world_common::changes::{changes, p99};
+use world_common::changes::flicker;
 use world_common::metrics::{flip, RgbImage};
 
 /// Cumulus over Munich on a summer morning, fisheye `n` × `n`.
@@ -109,19 +109,7 @@ fn moving_sun_over_static_clouds_does_not_flicker() {
     let mut clear = scene(n, 1, times[0]);
     clear.effects.retain(|e| *e != Effect::Clouds);
     let clear = render(&clear);
-    let (mut flicker, mut change_full, mut change_amortised) = (Vec::new(), Vec::new(), Vec::new());
-    for k in 0..times.len() - 1 {
-        let f = changes(&full[k], &full[k + 1], &clear);
-        let a = changes(&amortised[k], &amortised[k + 1], &clear);
-        for (f, a) in f.into_iter().zip(a) {
-            if let (Some(f), Some(a)) = (f, a) {
-                flicker.push((a - f).abs());
-                change_full.push(f.abs());
-                change_amortised.push(a.abs());
-            }
-        }
-    }
-    let (fl, cf, ca) = (p99(flicker), p99(change_full), p99(change_amortised));
+    let (fl, cf, ca) = flicker(&full, &amortised, &clear);
     println!(
         "Sun moving 0.25° per frame over static clouds: frame-to-frame change p99 {:.2} % amortised, {:.2} % full march; flicker (their difference) p99 {:.3} %",
         ca * 100.0,

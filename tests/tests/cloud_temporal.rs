@@ -24,7 +24,7 @@ use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::LutConfig;
 use himmel_skymodel::frame::{HistoryMiss, HistoryUse};
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
-use world_common::changes::{changes, p99};
+use world_common::changes::flicker;
 use world_common::metrics::{flip, RgbImage};
 
 /// Cumulus over Munich on a summer morning, fisheye `n` × `n`, wind
@@ -95,19 +95,7 @@ fn moving_sun_over_static_clouds_reuses_the_history_without_flicker() {
     let mut clear = scene(n, 1, &utc(0, step), 0.0);
     clear.effects.retain(|e| *e != Effect::Clouds);
     let clear = alone(&clear);
-    let (mut flicker, mut change_full, mut change_amortised) = (Vec::new(), Vec::new(), Vec::new());
-    for k in 0..frames as usize - 1 {
-        let f = changes(&full[k], &full[k + 1], &clear);
-        let a = changes(&amortised[k], &amortised[k + 1], &clear);
-        for (f, a) in f.into_iter().zip(a) {
-            if let (Some(f), Some(a)) = (f, a) {
-                flicker.push((a - f).abs());
-                change_full.push(f.abs());
-                change_amortised.push(a.abs());
-            }
-        }
-    }
-    let (fl, cf, ca) = (p99(flicker), p99(change_full), p99(change_amortised));
+    let (fl, cf, ca) = flicker(&full, &amortised, &clear);
     eprintln!(
         "Sun moving 6 s per frame, static clouds, history: frame-to-frame change p99 {:.2} % \
          with the history, {:.2} % full march; their difference p99 {:.3} %",

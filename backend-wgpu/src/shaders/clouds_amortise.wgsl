@@ -308,15 +308,21 @@ fn clouds_edges_reset() {
     atomicStore(&edges.count, 0u);
 }
 
+// The view direction of the band's pixel gid (w = 0: outside the band or
+// the projection, nothing to compose).
+fn band_pixel_dir(gid: vec3<u32>) -> vec4<f32> {
+    if (!inside(gid)) {
+        return vec4<f32>(0.0);
+    }
+    let y = gid.y + frame.band_first_row;
+    return pixel_dir(f32(gid.x) + 0.5, f32(y) + 0.5);
+}
+
 // The clouds pass: each pixel's radiance so far composed behind the
 // layers, the low layer marched at every pixel.
 @compute @workgroup_size(8, 8, 1)
 fn clouds_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (!inside(gid)) {
-        return;
-    }
-    let y = gid.y + frame.band_first_row;
-    let d = pixel_dir(f32(gid.x) + 0.5, f32(y) + 0.5);
+    let d = band_pixel_dir(gid);
     if (d.w == 0.0) {
         return;
     }
@@ -330,15 +336,12 @@ fn clouds_pass(@builtin(global_invocation_id) gid: vec3<u32>) {
 // the shader holds none of its code).
 @compute @workgroup_size(8, 8, 1)
 fn clouds_grid_pixels(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if (!inside(gid)) {
-        return;
-    }
-    let y = gid.y + frame.band_first_row;
-    let d = pixel_dir(f32(gid.x) + 0.5, f32(y) + 0.5);
+    let d = band_pixel_dir(gid);
     if (d.w == 0.0) {
         return;
     }
     let i = gid.y * frame.width + gid.x;
+    let y = gid.y + frame.band_first_row;
     let g = from_grid(gid.x, y);
     if (!g.found) {
         edges.pixels[atomicAdd(&edges.count, 1u)] = i;

@@ -24,3 +24,23 @@ pub fn p99(mut v: Vec<f64>) -> f64 {
     v.sort_by(f64::total_cmp);
     v.get(v.len() * 99 / 100).copied().unwrap_or(f64::NAN)
 }
+
+/// Over a sequence of `full` frames and the same frames drawn another way
+/// (`other`), p99 over the cloud pixels of: the difference of the two
+/// frame-to-frame changes (the flicker of its own), the full frames'
+/// change and the other frames' change.
+pub fn flicker(full: &[HdrImage], other: &[HdrImage], clear: &HdrImage) -> (f64, f64, f64) {
+    let (mut flicker, mut change_full, mut change_other) = (Vec::new(), Vec::new(), Vec::new());
+    for k in 0..full.len().min(other.len()).saturating_sub(1) {
+        let f = changes(&full[k], &full[k + 1], clear);
+        let a = changes(&other[k], &other[k + 1], clear);
+        for (f, a) in f.into_iter().zip(a) {
+            if let (Some(f), Some(a)) = (f, a) {
+                flicker.push((a - f).abs());
+                change_full.push(f.abs());
+                change_other.push(a.abs());
+            }
+        }
+    }
+    (p99(flicker), p99(change_full), p99(change_other))
+}
