@@ -68,6 +68,11 @@ pub struct SkyCell {
     /// The largest tangent of the angle between `dir` and a direction of
     /// the cell (the cone that holds it).
     pub tan_radius: f32,
+    /// Whether it has parts in bands along the horizon
+    /// ([`HORIZON_DEG`]): the lighting pass then looks at its parts even
+    /// where its nine first lookups find it blocked (a sliver of sky under
+    /// a window's top edge falls between them).
+    pub horizon: bool,
 }
 
 /// A part of a sky cell: a few of its cube texels, whose visibility the
@@ -76,13 +81,26 @@ pub struct SkyCell {
 /// through a cell instead of switching it whole.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CellPart {
-    /// The part's mean direction ω as a step across the cell's map per
-    /// metre along its direction: (ω·right, ω·up) / (ω·dir), with (right,
-    /// up) the map's axes ([`super::view::light_basis`]).
+    /// The centre of the part's texels' directions ω as a step across the
+    /// cell's map per metre along its direction: (ω·right, ω·up) / (ω·dir),
+    /// with (right, up) the map's axes ([`super::view::light_basis`]).
     pub offset: [f32; 2],
     /// ∫ L ω dω over the part per channel, with the cell's weight.
     pub moment: [Vec3; 3],
+    /// The part's extent across the map in the same units as `offset`
+    /// (its texels' span and one texel; 0 for a cell in one part): the
+    /// lighting pass spreads its lookups over it.
+    pub extent: [f32; 2],
 }
+
+/// Texels closer to the horizon than this (degrees) are grouped in bands
+/// of [`HORIZON_BAND_DEG`] of elevation: the sky's steepest gradient runs
+/// across the horizon, and a window's edge seen from far inside a room
+/// lets through a sliver of it thinner than a part of the grid.
+pub const HORIZON_DEG: f32 = 6.0;
+
+/// The height of a band of parts near the horizon, degrees.
+pub const HORIZON_BAND_DEG: f32 = 1.0;
 
 /// Radius of the sky around the Sun or Moon cut into the aureole's own
 /// cells, degrees.
@@ -217,6 +235,7 @@ impl EnvLight {
                 first_part: 0,
                 parts: 0,
                 tan_radius: 0.0,
+                horizon: false,
             })
             .collect();
         let mut sh9 = [[0.0f32; 9]; 3];
@@ -262,7 +281,7 @@ impl EnvLight {
                 }
             }
         }
-        let parts = cut_into_parts(&mut cells, &texels, &assigned, parts);
+        let parts = cut_into_parts(&mut cells, &texels, &assigned, parts, cube.height);
         let specular = prefilter(&texels, cube.height);
         EnvLight {
             cells,
@@ -325,20 +344,27 @@ impl EnvLight {
 
 /// Cuts each cell into parts: its texels (`assigned` to it with their
 /// weight) grouped on a square grid in the plane across the cell's
-/// direction, of about `per_cell` squares over the cell's solid angle (one
-/// part a cell, along its direction, when `per_cell` ≤ 1). Fills the cells' part ranges and
-/// cone radii; returns the parts, cell after cell.
+/// direction, of about `per_cell` squares over the cell's solid angle, but
+/// within [`HORIZON_DEG`] of the horizon in bands of [`HORIZON_BAND_DEG`]
+/// of elevation across the grid's columns (one part a cell, along its
+/// direction, when `per_cell` ≤ 1). `face`: the cube's face size, texels.
+/// Fills the cells' part ranges, cone radii and horizon flags; returns the
+/// parts, cell after cell.
 fn cut_into_parts(
     cells: &mut [SkyCell],
     texels: &[(Vec3, f32, [f32; 3])],
     assigned: &[Option<(usize, f32)>],
     per_cell: usize,
+    face: usize,
 ) -> Vec<CellPart> {
     struct Acc {
-        sa: f32,
-        ab: [f32; 2],
+        lo: [f32; 2],
+        hi: [f32; 2],
+        along: f32,
         moment: [Vec3; 3],
     }
+    // A cube texel's side, tangent units at its face's centre.
+    let texel_tan = 2.0 / face.max(1) as f32;
     let bases: Vec<(Vec3, Vec3)> = cells
         .iter()
         .map(|c| super::view::light_basis(c.dir))
@@ -360,24 +386,32 @@ fn cut_into_parts(
         let along = w.dot(c.dir).max(0.05);
         let ab = [w.dot(right) / along, w.dot(up) / along];
         c.tan_radius = c.tan_radius.max(ab[0].hypot(ab[1]));
+        let elevation = w.y.clamp(-1.0, 1.0).asin().to_degrees();
         let key = if per_cell <= 1 {
             (k, 0, 0)
         } else {
             let pitch = (own[k] / per_cell as f32).sqrt().max(1e-6);
-            (
-                k,
-                (ab[0] / pitch).floor() as i32,
-                (ab[1] / pitch).floor() as i32,
-            )
+            let column = (ab[0] / pitch).floor() as i32;
+            if elevation.abs() < HORIZON_DEG {
+                c.horizon = true;
+                // Bands along the horizon (keys apart from the grid's).
+                let band = (elevation / HORIZON_BAND_DEG).floor() as i32;
+                (k, column, i32::MIN / 2 + band)
+            } else {
+                (k, column, (ab[1] / pitch).floor() as i32)
+            }
         };
         let g = groups.entry(key).or_insert(Acc {
-            sa: 0.0,
-            ab: [0.0; 2],
+            lo: [f32::INFINITY; 2],
+            hi: [f32::NEG_INFINITY; 2],
+            along: 1.0,
             moment: [Vec3::ZERO; 3],
         });
-        g.sa += sa;
-        g.ab[0] += ab[0] * sa;
-        g.ab[1] += ab[1] * sa;
+        for i in 0..2 {
+            g.lo[i] = g.lo[i].min(ab[i]);
+            g.hi[i] = g.hi[i].max(ab[i]);
+        }
+        g.along = g.along.min(along);
         for ch in 0..3 {
             g.moment[ch] += w * (l[ch] * sa * f);
         }
@@ -391,14 +425,21 @@ fn cut_into_parts(
         c.parts += 1;
         // One part a cell is looked up along the cell's own direction,
         // where its map is exact.
-        let offset = if per_cell <= 1 {
-            [0.0; 2]
+        let (offset, extent) = if per_cell <= 1 {
+            ([0.0; 2], [0.0; 2])
         } else {
-            [g.ab[0] / g.sa, g.ab[1] / g.sa]
+            // The texels' span and one texel (at its steepest in the
+            // cell's map).
+            let t = texel_tan / (g.along * g.along);
+            (
+                [0.5 * (g.lo[0] + g.hi[0]), 0.5 * (g.lo[1] + g.hi[1])],
+                [g.hi[0] - g.lo[0] + t, g.hi[1] - g.lo[1] + t],
+            )
         };
         parts.push(CellPart {
             offset,
             moment: g.moment,
+            extent,
         });
     }
     parts
@@ -621,6 +662,70 @@ mod tests {
             let top = env.specular[level * w * SPECULAR_SIZE.1 + w / 2];
             assert!((top[1] / 1000.0 - 1.0).abs() < 0.01, "{level}: {top:?}");
         }
+    }
+
+    /// Near the horizon a cell's parts are bands of elevation: no part
+    /// holds texels more than one band apart, none crosses the horizon,
+    /// the cells that have them say so, and every part's extent covers its
+    /// texels' directions (the lighting pass spreads its lookups over it).
+    #[test]
+    fn parts_follow_the_horizon() {
+        let c = cube(64, |d| [100.0 + 50.0 * d.y; 3]);
+        let dirs = crate::passes::lighting::view::direction_sets(64, true, 2);
+        let env = EnvLight::from_cube(&c, &dirs, 2, &[], 16);
+        let texels = cube_texels(&c);
+        let mut banded = 0;
+        for cell in &env.cells {
+            let (right, up) = crate::passes::lighting::view::light_basis(cell.dir);
+            let first = cell.first_part as usize;
+            let parts = &env.parts[first..first + cell.parts as usize];
+            // The texels of this cell (its hemisphere's nearest direction).
+            let mine: Vec<Vec3> = texels
+                .iter()
+                .map(|t| t.0)
+                .filter(|w| {
+                    let up_side = w.y >= 0.0;
+                    let best = env.cells[..dirs.len()]
+                        .iter()
+                        .filter(|o| (o.dir.y > 0.0) == up_side)
+                        .max_by(|a, b| w.dot(a.dir).total_cmp(&w.dot(b.dir)));
+                    best.is_some_and(|b| b.dir == cell.dir)
+                })
+                .collect();
+            let near_horizon = mine
+                .iter()
+                .any(|w| w.y.asin().to_degrees().abs() < HORIZON_DEG);
+            assert_eq!(cell.horizon, near_horizon, "{:?}", cell.dir);
+            for w in &mine {
+                let along = w.dot(cell.dir).max(0.05);
+                let ab = [w.dot(right) / along, w.dot(up) / along];
+                // Some part of the cell covers the texel's direction.
+                assert!(
+                    parts
+                        .iter()
+                        .any(|p| (0..2)
+                            .all(|i| (ab[i] - p.offset[i]).abs() <= 0.5 * p.extent[i] + 1e-5)),
+                    "{:?}: texel {w:?} outside every part",
+                    cell.dir
+                );
+            }
+            for p in parts {
+                // A part's span in elevation (its extent, up, less one
+                // texel) near the horizon: one band.
+                let centre = (cell.dir + right * p.offset[0] + up * p.offset[1]).normalize();
+                if centre.y.asin().to_degrees().abs() < HORIZON_DEG - 2.0 {
+                    banded += 1;
+                    let span = (p.extent[1] - 2.0 / 64.0 / 0.9).max(0.0);
+                    assert!(
+                        span.atan().to_degrees() <= HORIZON_BAND_DEG + 0.2,
+                        "{:?}: a part {} deg tall at the horizon",
+                        cell.dir,
+                        span.atan().to_degrees()
+                    );
+                }
+            }
+        }
+        assert!(banded > 0);
     }
 
     /// A bright spot (a low Sun's aureole) stays where it is: a surface

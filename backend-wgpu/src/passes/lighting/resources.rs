@@ -565,20 +565,27 @@ impl ShadeTables {
                     let m = c.moment[ch];
                     v[4 + 4 * ch..8 + 4 * ch].copy_from_slice(&[m.x, m.y, m.z, w[ch]]);
                 }
-                v[16..].copy_from_slice(&[c.first_part as f32, c.parts as f32, c.tan_radius, 0.0]);
+                let horizon = if c.horizon { 1.0 } else { 0.0 };
+                v[16..].copy_from_slice(&[
+                    c.first_part as f32,
+                    c.parts as f32,
+                    c.tan_radius,
+                    horizon,
+                ]);
                 v
             })
             .collect();
-        let parts: Vec<[f32; 12]> = env
+        let parts: Vec<[f32; 16]> = env
             .parts
             .iter()
             .map(|p| {
-                let mut v = [0.0f32; 12];
+                let mut v = [0.0f32; 16];
                 let w = [p.offset[0], p.offset[1], 0.0];
                 for ch in 0..3 {
                     let m = p.moment[ch];
                     v[4 * ch..4 * ch + 4].copy_from_slice(&[m.x, m.y, m.z, w[ch]]);
                 }
+                v[12..14].copy_from_slice(&p.extent);
                 v
             })
             .collect();

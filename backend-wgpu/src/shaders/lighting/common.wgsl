@@ -59,7 +59,8 @@ struct SkyCell {
     g: vec4<f32>,
     b: vec4<f32>,
     // x: its first part, y: its parts, z: the tangent of the cone around
-    // dir that holds the cell (env.rs `SkyCell`).
+    // dir that holds the cell (env.rs `SkyCell`), w: 1 when it has parts
+    // in bands along the horizon.
     parts: vec4<f32>,
 }
 

@@ -59,6 +59,9 @@ struct CellPart {
     // w: the step (up).
     g: vec4<f32>,
     b: vec4<f32>,
+    // xy: the part's extent (right, up) in the same units (0, 0: one part
+    // a cell).
+    extent: vec4<f32>,
 }
 
 @group(0) @binding(1) var g_distance: texture_2d<f32>;
@@ -106,6 +109,12 @@ struct CellPart {
 @group(1) @binding(7) var spec_w_out: texture_storage_2d<rgba32float, write>;
 
 const SPECULAR_LEVELS: f32 = 5.0;
+// Lookups a part of a sky cell takes over its extent (cell_light).
+const PART_SAMPLES: u32 = 4u;
+// A cell in parts: the lift of p off its surface (texels) and the bias
+// against the receiver's own slope (texels of its depth change).
+const PARTS_LIFT: f32 = 0.5;
+const SLOPE_BIAS: f32 = 1.0;
 
 // The receiver's own plane in a light map: its depth (map units) changes
 // by dot(o, g) at an offset of o texels from the receiver, so that a
@@ -154,6 +163,61 @@ fn cell_whole(c: SkyCell, n: vec3<f32>) -> vec3<f32> {
     return e;
 }
 
+// What a part's rays need of cell k's map: the cell, p's place in the map
+// (uv, texels; depth z), the receiver plane's gradient g, the map's depth
+// range (m) and texels per metre, the nearest blocker's depth.
+struct MapLookup {
+    k: u32,
+    uv: vec2<f32>,
+    size: vec2<f32>,
+    z: f32,
+    g: vec2<f32>,
+    depth_m: f32,
+    per_m: f32,
+    zb: f32,
+}
+
+// The blockers among cell_light's lookups: offset (texels) and depth (0:
+// open there).
+var<private> tap_o: array<vec2<f32>, 20>;
+var<private> tap_d: array<f32, 20>;
+
+// Whether the ray from p along dir (a step across the map per metre along
+// the cell's direction) is open: one bilinear depth comparison where it
+// crosses the nearest blocker on the side it leaves towards (within 60°
+// of it across the map: a roof above p must not set the parallax of a
+// ray that leaves under a window's lintel), against the receiver's plane.
+fn ray_open(m: MapLookup, dir: vec2<f32>) -> f32 {
+    var zp = 0.0;
+    let len_dir = length(dir);
+    if len_dir * (m.z - m.zb) * m.depth_m * m.per_m > 1.0 {
+        for (var t = 0u; t < 20u; t++) {
+            if tap_d[t] > 0.0 && dot(tap_o[t], dir) > 0.5 * length(tap_o[t]) * len_dir {
+                zp = max(zp, tap_d[t]);
+            }
+        }
+    }
+    if zp <= 0.0 {
+        zp = m.zb;
+    }
+    let hp = max(m.z - zp, 0.0) * m.depth_m;
+    let o = dir * (hp * m.per_m);
+    var v = textureSampleCompareLevel(visibility, cmp_sampler, m.uv + o / m.size, i32(m.k), m.z + dot(o, m.g));
+    if v > 0.0 && empty_near(m.k, m.uv * m.size + o, m.size) {
+        // Past the edge of everything the map shows: the ray must not
+        // have run beneath it on the way (out of a closed box through a
+        // wall the map sees edge-on). Halfway, it lies deeper than what
+        // the map shows there or it is blocked.
+        for (var f = 0.25; f < 0.8; f += 0.25) {
+            let th = vec2<i32>(clamp(m.uv * m.size + f * o, vec2<f32>(0.0), m.size - 1.0));
+            if textureLoad(visibility, th, i32(m.k), 0) < m.z - f * hp / m.depth_m - 2e-4 {
+                v = 0.0;
+            }
+        }
+    }
+    return v;
+}
+
 // The light of sky cell k at point p with normal n (rgb) and the visible
 // fraction of its parts (a). Nine lookups first — along the cell's
 // direction and over the disk its cone covers where it meets the top of
@@ -169,13 +233,17 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     }
     let m = cell_view[k];
     let texel = c.dir.w;
-    let q = p + n * (1.5 * texel);
+    // Off the surface along its normal against its own texels: less where
+    // the cell is in parts (their lookups take a slope-scaled bias below),
+    // since the lift moves the rays' origin.
+    let lift = select(1.5, PARTS_LIFT, c.parts.y > 1.0);
+    let q = p + n * (lift * texel);
     let s = m * vec4<f32>(q, 1.0);
     let uv = light_uv(s);
     if !inside(uv) || s.z < 0.0 {
         return vec4<f32>(cell_whole(c, n), 1.0);
     }
-    let z = s.z - 1e-4;
+    var z = s.z - 1e-4;
     var open = textureSampleCompareLevel(visibility, cmp_sampler, uv, i32(k), z);
     if c.parts.y <= 1.0 {
         // One part: the cell's own direction, one bilinear lookup.
@@ -189,6 +257,7 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     // (A plane seen nearly edge-on would tilt through every blocker in
     // reach: its slope is capped.)
     let g = plane_gradient(m, n, c.dir.xyz, texel, depth_m, 0.3);
+    z -= SLOPE_BIAS * (abs(g.x) + abs(g.y));
     // The cone's radius, texels, where it leaves the map's top.
     let search = clamp(s.z * depth_m * c.parts.z * per_m, 1.0, 64.0);
     let t0 = vec2<i32>(clamp(uv * size, vec2<f32>(0.0), size - 1.0));
@@ -201,6 +270,8 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
         let d = textureLoad(visibility, t, i32(k), 0);
         let below = z + dot(o, g);
         open += select(0.0, 1.0, d >= below);
+        tap_o[i] = o;
+        tap_d[i] = select(0.0, d, d < below - 2e-4);
         if d < below - 2e-4 {
             zb = max(zb, d);
         }
@@ -208,7 +279,7 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
     if open >= 9.0 {
         return vec4<f32>(cell_whole(c, n), 1.0);
     }
-    if open <= 0.0 {
+    if open <= 0.0 && c.parts.w == 0.0 {
         return vec4<f32>(0.0);
     }
     // The nearest blocker within the cone (a blocker much narrower than
@@ -218,6 +289,8 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
         let o = disk(i, taps, rot) * search;
         let t = vec2<i32>(clamp(uv * size + o, vec2<f32>(0.0), size - 1.0));
         let d = textureLoad(visibility, t, i32(k), 0);
+        tap_o[8u + i] = o;
+        tap_d[8u + i] = select(0.0, d, d < z + dot(o, g) - 2e-4);
         if d < z + dot(o, g) - 2e-4 {
             zb = max(zb, d);
         }
@@ -226,28 +299,25 @@ fn cell_light(k: u32, p: vec3<f32>, n: vec3<f32>, rot: f32) -> vec4<f32> {
         // Only the bilinear lookup saw a blocker (an edge within a texel).
         return vec4<f32>(cell_whole(c, n) * open / 9.0, open / 9.0);
     }
-    // Metres from the nearest blocker down to p along the cell's direction.
-    let h = max(z - zb, 0.0) * depth_m;
     var e = vec3<f32>(0.0);
     var seen = 0.0;
     let first = u32(c.parts.x);
     let count = u32(c.parts.y);
+    let seed = rot * 0.15915494;
+    let look = MapLookup(k, uv, size, z, g, depth_m, per_m, zb);
     for (var j = first; j < first + count; j++) {
         let part = parts[j];
-        let o = vec2<f32>(part.r.w, -part.g.w) * (h * per_m);
-        var v = textureSampleCompareLevel(visibility, cmp_sampler, uv + o / size, i32(k), z + dot(o, g));
-        if v > 0.0 && empty_near(k, uv * size + o, size) {
-            // Past the edge of everything the map shows: the ray must not
-            // have run beneath it on the way (out of a closed box through
-            // a wall the map sees edge-on). Halfway, it lies deeper than
-            // what the map shows there or it is blocked.
-            for (var f = 0.25; f < 0.8; f += 0.25) {
-                let th = vec2<i32>(clamp(uv * size + f * o, vec2<f32>(0.0), size - 1.0));
-                if textureLoad(visibility, th, i32(k), 0) < z - f * h / depth_m - 2e-4 {
-                    v = 0.0;
-                }
-            }
+        // Points spread over the part's extent (2 × 2 strata, turned per
+        // pixel): the part's open fraction, not only its centre's.
+        let r = fract(vec2<f32>(seed, fract(seed * 1.6180339 + 0.31)) + f32(j - first) * vec2<f32>(0.7548777, 0.5698403));
+        var v = 0.0;
+        for (var q = 0u; q < PART_SAMPLES; q++) {
+            let stratum = vec2<f32>(f32(q % 2u), f32(q / 2u));
+            let jit = (stratum + r) / 2.0 - 0.5;
+            let dir = vec2<f32>(part.r.w, -part.g.w) + jit * vec2<f32>(part.extent.x, -part.extent.y);
+            v += ray_open(look, dir);
         }
+        v /= f32(PART_SAMPLES);
         e += part_light(j, n) * v;
         seen += v;
     }
