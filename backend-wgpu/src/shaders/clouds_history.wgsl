@@ -46,8 +46,12 @@ fn dir_to_pixel(d: vec3<f32>) -> vec3<f32> {
     let w = f32(frame.width);
     let h = f32(frame.height);
     let p = frame.projection;
+    // The angles from atan2 of both sides (acos and asin lose f32
+    // precision near the poles: 3e-4 rad at the zenith, a hundredth of a
+    // pixel at 128²).
+    let flat = length(d.xy);
     if (p == 0u) {
-        let zen = acos(clamp(d.z, -1.0, 1.0));
+        let zen = atan2(flat, d.z);
         let rho = zen / HALF_PI * min(w, h) * 0.5;
         if (rho <= 0.0) {
             return vec3<f32>(w * 0.5, h * 0.5, 1.0);
@@ -55,7 +59,7 @@ fn dir_to_pixel(d: vec3<f32>) -> vec3<f32> {
         let az = atan2(d.x, d.y);
         return vec3<f32>(w * 0.5 - rho * sin(az), h * 0.5 - rho * cos(az), 1.0);
     } else if (p == 1u) {
-        let alt = asin(clamp(d.z, -1.0, 1.0));
+        let alt = atan2(d.z, flat);
         var az = atan2(d.x, d.y);
         if (az < 0.0) {
             az = az + TAU;
