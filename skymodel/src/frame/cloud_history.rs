@@ -41,7 +41,7 @@
 //! The per-frame decisions — whether the history serves and why not, the
 //! quarter marched, the field's move, which ages' lights still hold — are
 //! [`HistoryClock::step`]'s, which the wgpu backend runs as well: it keeps
-//! the nodes in GPU buffers and ports [`Kept::fetch`] to WGSL
+//! the nodes in GPU buffers and ports `Kept::fetch` to WGSL
 //! (`backend-wgpu/src/passes/clouds_history.rs`).
 
 use std::collections::VecDeque;
