@@ -79,6 +79,13 @@ fn sequence(r: &mut impl SkyRenderer, scenes: &[Scene]) -> Vec<(HdrImage, Histor
         .collect()
 }
 
+/// A new renderer (a renderer keeps the last frame's diffusion grids as
+/// well: a new one makes a sequence's figures independent of the tests
+/// before it).
+fn fresh() -> WgpuRenderer {
+    WgpuRenderer::new(None).expect("a wgpu adapter (lavapipe in CI)")
+}
+
 /// The GPU frame of `s` alone (the history forgotten before it).
 fn alone(s: &Scene) -> HdrImage {
     render(&mut *gpu(), s).0
@@ -108,7 +115,7 @@ fn moving_sun_over_static_clouds_reuses_the_history_without_flicker() {
     let scenes: Vec<Scene> = (0..frames)
         .map(|k| scene(n, 4, &utc(k, step), 0.0))
         .collect();
-    let seq = sequence(&mut *gpu(), &scenes);
+    let seq = sequence(&mut fresh(), &scenes);
     for (k, (_, used)) in seq.iter().enumerate() {
         eprintln!("wgpu frame {k}: {used:?}");
     }
@@ -144,7 +151,7 @@ fn wind_reprojection_stays_within_flip_005_of_the_full_march() {
     let scenes: Vec<Scene> = (0..frames)
         .map(|k| scene(n, 4, &utc(k, step), wind))
         .collect();
-    let seq = sequence(&mut *gpu(), &scenes);
+    let seq = sequence(&mut fresh(), &scenes);
     assert_served(&seq);
     let (mut worst, mut reused, mut marched) = (0.0f64, 0, 0);
     for (k, (img, used)) in seq.iter().enumerate().skip(1) {
@@ -178,7 +185,7 @@ fn wind_reprojection_stays_within_flip_005_of_the_full_march() {
 fn without_reprojection_each_frame_is_its_own() {
     let mut off = scene(64, 4, &utc(0, 4), 15.0);
     off.clouds.low.reproject = false;
-    let own = render(&mut WgpuRenderer::new(None).expect("a wgpu adapter"), &off).0;
+    let own = render(&mut fresh(), &off).0;
     let mut r = gpu();
     for k in 0..3 {
         let (img, used) = render(&mut *r, &off);
@@ -223,12 +230,7 @@ fn reprojected_frames_match_the_cpu() {
     let scenes: Vec<Scene> = (0..frames)
         .map(|k| scene(n, 4, &utc(k, step), wind))
         .collect();
-    // New renderers on both sides (a renderer keeps the last frame's
-    // diffusion grids as well).
-    let g = sequence(
-        &mut WgpuRenderer::new(None).expect("a wgpu adapter"),
-        &scenes,
-    );
+    let g = sequence(&mut fresh(), &scenes);
     let c = sequence(&mut CpuRenderer::new(None), &scenes);
     assert_served(&g);
     assert_served(&c);
@@ -328,10 +330,7 @@ fn every_projection_reprojects_as_the_cpu() {
                 s
             })
             .collect();
-        let g = sequence(
-            &mut WgpuRenderer::new(None).expect("a wgpu adapter"),
-            &scenes,
-        );
+        let g = sequence(&mut fresh(), &scenes);
         let c = sequence(&mut CpuRenderer::new(None), &scenes);
         let nodes = (c[0].1.reused + c[0].1.marched) as f64;
         for k in 1..3 {
