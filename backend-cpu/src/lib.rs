@@ -27,8 +27,8 @@ use std::time::Instant as Clock;
 use glam::Vec3;
 use himmel_skymodel::atmosphere::{AtmosphereLuts, AtmosphereParams, LutConfig};
 use himmel_skymodel::frame::{
-    CloudFrame, CloudHistory, CpuSkyViews, FramePlan, HistoryKey, HistoryUse, LowCloudGrid,
-    LutOrigin, LutProgress, LutStore, PixelDirections, SkyLight,
+    CloudHistory, CpuSkyViews, FramePlan, HistoryKey, HistoryUse, LowCloudGrid, LutOrigin,
+    LutProgress, LutStore, PixelDirections, SkyLight,
 };
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
 use himmel_skymodel::{Effect, Scene, SkyState};
@@ -297,7 +297,7 @@ fn execute(
                             let dirs = &runner.directions;
                             match history.as_mut() {
                                 Some((h, used)) => {
-                                    let key = history_key(scene, plan, c);
+                                    let key = HistoryKey::of(scene, plan, c);
                                     let (g, u) =
                                         LowCloudGrid::build_with_history(c, dirs, stride, h, key);
                                     *used = Some(u);
@@ -337,17 +337,6 @@ fn execute(
     }
     *geometry_ms += runner.geometry_ms;
     Ok(runner.stats)
-}
-
-/// What must stay the same for the cloud history to serve the next frame.
-fn history_key(scene: &Scene, plan: &FramePlan, c: &CloudFrame) -> HistoryKey {
-    HistoryKey {
-        camera: scene.camera,
-        layer: scene.clouds.low,
-        shell: c.shell,
-        stride: c.march_stride as usize,
-        atmosphere: plan.luts.is_some().then(|| scene.atmosphere.clone()),
-    }
 }
 
 /// The state of [`execute`]: the pending run of per-pixel passes (each

@@ -48,7 +48,7 @@ pub mod world_frame;
 use std::path::PathBuf;
 use std::time::Instant as Clock;
 
-use himmel_skymodel::frame::{CpuSkyViews, LutOrigin, LutStore, SkyViewSource};
+use himmel_skymodel::frame::{CpuSkyViews, HistoryUse, LutOrigin, LutStore, SkyViewSource};
 use himmel_skymodel::renderer::{HdrImage, PassStat, RenderError, RenderOutput, SkyRenderer};
 use himmel_skymodel::{Camera, Effect, FramePlan, Projection, Scene, SkyState, Unavailable};
 
@@ -384,8 +384,11 @@ impl WgpuRenderer {
             .device
             .push_error_scope(wgpu::ErrorFilter::Validation);
         let mut build = FrameBuild::new(frame::base_uniforms(&scene.camera, state));
-        let (steps, mut stats, points) =
-            self.prepare_steps(scene, &mut plan, &layout, &mut build)?;
+        self.passes.clouds.history.begin_frame();
+        let prepared = self.prepare_steps(scene, &mut plan, &layout, &mut build);
+        // A frame without the clouds' history breaks their sequence.
+        self.passes.clouds.history.end_frame();
+        let (steps, mut stats, points) = prepared?;
         let target = layout.target(&self.gpu);
         let view = target.create_view(&wgpu::TextureViewDescriptor {
             dimension: Some(wgpu::TextureViewDimension::D2Array),
@@ -544,7 +547,10 @@ impl WgpuRenderer {
                     }
                 }
                 Effect::Clouds => {
-                    if let Some(c) = p.clouds.prepare(gpu, &mut self.gpu_luts, plan, layout)? {
+                    if let Some(c) =
+                        p.clouds
+                            .prepare(gpu, &mut self.gpu_luts, scene, plan, layout)?
+                    {
                         add(Box::new(c));
                     }
                 }
@@ -641,6 +647,19 @@ impl WgpuRenderer {
         self.lighting.temporal_image(&self.gpu)
     }
 
+    /// Forgets the last frame's cloud lattice: the next frame marches every
+    /// coarse node (its `cloud_history` says `first frame`).
+    pub fn clear_cloud_history(&mut self) {
+        self.passes.clouds.history.clear();
+    }
+
+    /// What the low clouds' history gave the last frame
+    /// (`clouds.low.reproject`; `None` when it kept none): the nodes
+    /// reused and marched, read back from the GPU (waits for the frame).
+    pub fn cloud_history(&mut self) -> Result<Option<HistoryUse>, RenderError> {
+        self.passes.clouds.history.read_use(&self.gpu)
+    }
+
     /// Copies a frame back into an [`HdrImage`] (a cube map as its 6H×H
     /// strip).
     pub fn read_back(&self, frame: &GpuFrame) -> Result<HdrImage, RenderError> {
@@ -656,6 +675,7 @@ impl SkyRenderer for WgpuRenderer {
     fn render(&mut self, scene: &Scene, state: &SkyState) -> Result<RenderOutput, RenderError> {
         let frame = self.render_frame(scene, state)?;
         let image = self.read_back(&frame)?;
+        let cloud_history = self.cloud_history()?;
         Ok(RenderOutput {
             image,
             passes: frame.passes,
@@ -665,7 +685,7 @@ impl SkyRenderer for WgpuRenderer {
             sky_view_ms: frame.sky_view_ms,
             cloud_maps_ms: frame.cloud_maps_ms,
             cloud_grid_ms: frame.cloud_grid_ms,
-            cloud_history: None,
+            cloud_history,
             lights: frame.lights,
         })
     }

@@ -602,7 +602,7 @@ pub(crate) fn render_frame(
 }
 
 /// `--stats`' `cloud_history`: whether the low layer's coarse grid came
-/// from the last frame (temporal reprojection, CPU backend), why not, and
+/// from the last frame (temporal reprojection, both backends), why not, and
 /// the nodes reused and marched; null without an amortised march.
 pub(crate) fn cloud_history_stats(out: &himmel_skymodel::RenderOutput) -> serde_json::Value {
     match &out.cloud_history {

@@ -352,7 +352,18 @@ fn bad_sequence_input_exits_2_naming_the_flag_or_field() {
 /// nodes were reused.
 #[test]
 fn cloud_history_is_reported_per_frame() {
-    let d = dir("cloud_history");
+    cloud_history_per_frame("cpu");
+}
+
+/// The same on the wgpu backend (its lattices kept on the GPU, the node
+/// counts read back).
+#[test]
+fn cloud_history_is_reported_per_frame_on_wgpu() {
+    cloud_history_per_frame("wgpu");
+}
+
+fn cloud_history_per_frame(backend: &str) {
+    let d = dir(&format!("cloud_history_{backend}"));
     let (out, st, scene) = (
         d.join("sky.exr"),
         d.join("stats.json"),
@@ -366,7 +377,13 @@ fn cloud_history_is_reported_per_frame() {
     )
     .unwrap();
     let (out_s, st_s, scene_s) = (s(&out), s(&st), s(&scene));
-    let mut a = vec!["render", "--time", "2024-06-21T08:00:00Z"];
+    let mut a = vec![
+        "render",
+        "--backend",
+        backend,
+        "--time",
+        "2024-06-21T08:00:00Z",
+    ];
     a.extend_from_slice(&MUNICH);
     a.extend_from_slice(&[
         "--scene",
@@ -383,6 +400,7 @@ fn cloud_history_is_reported_per_frame() {
     let (code, _, err) = himmel(&a);
     assert_eq!(code, 0, "{err}");
     let v = stats(&st);
+    assert_eq!(v["backend"], backend, "{v}");
     let frames = v["frames"].as_array().unwrap();
     let h0 = &frames[0]["cloud_history"];
     assert_eq!(h0["used"], false, "{h0}");

@@ -115,8 +115,8 @@ pub struct LowCloudSpec {
     /// between four grid pixels that agree is interpolated from them, and
     /// the others (cloud edges) are marched.
     pub march_stride: u32,
-    /// Temporal reprojection over frame sequences (default true; CPU
-    /// backend, with `march_stride` ≥ 2): a renderer that draws frame after
+    /// Temporal reprojection over frame sequences (default true; both
+    /// backends, with `march_stride` ≥ 2): a renderer that draws frame after
     /// frame marches a rotating quarter of the grid's coarse nodes and takes
     /// the others from the last frame, moved with the wind, where that
     /// still holds (`frame::CloudHistory`). false: every frame is marched

@@ -27,12 +27,13 @@ use himmel_skymodel::clouds::noise::OCTAVE_SHIFT;
 use himmel_skymodel::clouds::{MultipleScattering, Octaves, CLOUD_PHASE, OCTAVES};
 use himmel_skymodel::frame::clouds::CLEAR;
 use himmel_skymodel::frame::lights::AERIAL_STEPS;
-use himmel_skymodel::frame::{CloudFrame, SkyInputs};
+use himmel_skymodel::frame::{CloudFrame, HistoryKey, SkyInputs};
 use himmel_skymodel::spectrum::{BandWeights, Spectrum};
-use himmel_skymodel::{FramePlan, RenderError};
+use himmel_skymodel::{FramePlan, RenderError, Scene};
 use wgpu::util::DeviceExt;
 
 use super::clouds_amortise::{CloudsStep, GridPipelines, GridShape};
+use super::clouds_history::{grown, GpuCloudHistory};
 use super::luts::{band_groups, LutSlot};
 use super::sky_view::atmosphere_uniforms;
 use crate::frame::{FrameLayout, SkyGroup};
@@ -42,7 +43,8 @@ use crate::uniforms::AtmosphereUniforms;
 /// The clouds pass: frame.wgsl, clouds.wgsl, its diffusion model
 /// (clouds_diffusion.wgsl), its height-field tier
 /// (clouds_heightfield.wgsl), the diffusion grids (clouds_grid.wgsl), the
-/// composition and the amortised march (clouds_amortise.wgsl), then the atmosphere's
+/// composition and the amortised march (clouds_amortise.wgsl), its temporal
+/// reprojection (clouds_history.wgsl), then the atmosphere's
 /// uniforms and lookups (atmo.wgsl), the medium (medium.wgsl) and the
 /// bilinear lookup (bilinear.wgsl).
 pub const CLOUDS_WGSL: &str = concat!(
@@ -52,6 +54,7 @@ pub const CLOUDS_WGSL: &str = concat!(
     include_str!("../shaders/clouds_heightfield.wgsl"),
     include_str!("../shaders/clouds_grid.wgsl"),
     include_str!("../shaders/clouds_amortise.wgsl"),
+    include_str!("../shaders/clouds_history.wgsl"),
     include_str!("../shaders/atmo.wgsl"),
     include_str!("../shaders/medium.wgsl"),
     include_str!("../shaders/bilinear.wgsl")
@@ -60,7 +63,7 @@ pub const CLOUDS_WGSL: &str = concat!(
 /// Mirror of WGSL `struct Clouds` (src/shaders/clouds.wgsl): the frame's
 /// cloud fields, the model's constants, the lights and the aerial
 /// perspective's inputs, the ground's cloud shadows, the height-field
-/// tier's maps, the amortised march's grid. 576 bytes.
+/// tier's maps, the amortised march's grid and history. 608 bytes.
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct CloudUniforms {
@@ -212,9 +215,17 @@ pub struct CloudUniforms {
     /// pixel marched), the coarse nodes along x and y, the bits of
     /// `AGREE_TRANSMITTANCE`.
     pub march_grid: [u32; 4],
+    /// The temporal reprojection
+    /// ([`super::clouds_history::history_uniforms`]): 1 when the last
+    /// frame's nodes may serve, the quarter's phase, the ages whose lights
+    /// hold (bits), `HISTORY_MAX_AGE`.
+    pub history: [u32; 4],
+    /// The field's move since the last frame (km), `HISTORY_AGREE`,
+    /// `HISTORY_NEGLIGIBLE`.
+    pub history_shift: [f32; 4],
 }
 
-const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 576);
+const _: () = assert!(std::mem::size_of::<CloudUniforms>() == 608);
 
 /// The light of `CloudFrame::light_sources` at slot `k` of `u`.
 fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
@@ -226,24 +237,6 @@ fn set_light(u: &mut CloudUniforms, k: usize, dir: glam::Vec3, s: &Spectrum) {
     *d = dir.to_array();
     *sp = band_groups(s);
     *c = rgb;
-}
-
-/// The storage buffer kept in `slot`, at least `bytes` long (a larger
-/// one made when it is shorter).
-fn grown(gpu: &Gpu, slot: &mut Option<wgpu::Buffer>, label: &str, bytes: u64) -> wgpu::Buffer {
-    match slot {
-        Some(b) if b.size() >= bytes => b.clone(),
-        _ => {
-            let b = gpu.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size: bytes,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: false,
-            });
-            *slot = Some(b.clone());
-            b
-        }
-    }
 }
 
 /// The lattice's stand-in without amortised marching (one entry), bytes.
@@ -397,9 +390,12 @@ pub struct CloudsPass {
     edges: wgpu::ComputePipeline,
     /// Zero-filled LUT stand-ins for frames without the atmosphere pass.
     no_luts: Option<wgpu::Buffer>,
-    /// The amortised march's lattice, kept across frames (grown as
-    /// needed); a small stand-in without amortised marching.
-    lattice: Option<wgpu::Buffer>,
+    /// `clouds_grid_coarse_history`.
+    coarse_history: wgpu::ComputePipeline,
+    /// The amortised march's lattices and temporal reprojection, kept
+    /// across frames (grown as needed); a small stand-in without
+    /// amortised marching.
+    pub history: GpuCloudHistory,
     /// The band's queue of pixels the grid cannot give (a count, then
     /// pixel indices), kept across frames likewise.
     queue: Option<wgpu::Buffer>,
@@ -422,19 +418,22 @@ impl CloudsPass {
                     storage_entry(5, true),
                     storage_entry(6, false),
                     storage_entry(7, false),
+                    storage_entry(8, true),
+                    storage_entry(9, false),
                 ],
             });
         let pl = gpu.pipeline_layout("clouds", &[&sky.layout, &layout]);
         CloudsPass {
             pipeline: gpu.compute_pipeline(&pl, &module, "clouds_pass"),
             coarse: gpu.compute_pipeline(&pl, &module, "clouds_grid_coarse"),
+            coarse_history: gpu.compute_pipeline(&pl, &module, "clouds_grid_coarse_history"),
             refine: gpu.compute_pipeline(&pl, &module, "clouds_grid_refine"),
             grid_pixels: gpu.compute_pipeline(&pl, &module, "clouds_grid_pixels"),
             reset: gpu.compute_pipeline(&pl, &module, "clouds_edges_reset"),
             edges: gpu.compute_pipeline(&pl, &module, "clouds_edges"),
             layout,
             no_luts: None,
-            lattice: None,
+            history: GpuCloudHistory::default(),
             queue: None,
         }
     }
@@ -442,11 +441,13 @@ impl CloudsPass {
     /// The pass over every band of `layout`'s image when
     /// the plan has cloud layers: its uniforms, the LUTs (uploaded unless
     /// `gpu_luts` holds them), the amortised march's grid when the low
-    /// layer has a `march_stride` above 1.
+    /// layer has a `march_stride` above 1, with its history over the frames
+    /// of `scene` when `clouds.low.reproject` holds.
     pub fn prepare(
         &mut self,
         gpu: &Gpu,
         gpu_luts: &mut LutSlot,
+        scene: &Scene,
         plan: &FramePlan,
         layout: &FrameLayout,
     ) -> Result<Option<CloudsStep>, RenderError> {
@@ -461,11 +462,15 @@ impl CloudsPass {
             .as_ref()
             .and_then(|_| GridShape::of(layout.width, layout.height, c.march_stride, limit));
         u.march_grid = GridShape::uniform(shape);
-        let lattice = grown(
+        let key = (shape.is_some() && scene.clouds.low.reproject)
+            .then(|| (HistoryKey::of(scene, plan, c), c));
+        let stand_in = self.no_luts(gpu);
+        let bufs = self.history.buffers(
             gpu,
-            &mut self.lattice,
-            "cloud march lattice",
+            &mut u,
             shape.map_or(ENTRY_STAND_IN, |g| g.bytes()),
+            key,
+            stand_in,
         );
         let band_pixels = layout.width as u64 * layout.band_rows as u64;
         let queue = grown(
@@ -474,6 +479,7 @@ impl CloudsPass {
             "cloud edge queue",
             // The count and at least one index (the shader's minimum).
             4 + 4 * shape.map_or(1, |_| band_pixels),
+            wgpu::BufferUsages::STORAGE,
         );
         let (atmo, luts) = match air {
             Some((luts, inputs)) => {
@@ -533,14 +539,20 @@ impl CloudsPass {
                 luts[1].as_entire_binding(),
                 luts[2].as_entire_binding(),
                 columns.as_entire_binding(),
-                lattice.as_entire_binding(),
+                bufs.lattice.as_entire_binding(),
                 queue.as_entire_binding(),
+                bufs.prev.as_entire_binding(),
+                bufs.counters.as_entire_binding(),
             ],
         );
         Ok(Some(CloudsStep {
             pixels: self.pipeline.clone(),
             grid: shape.map(|shape| GridPipelines {
-                coarse: self.coarse.clone(),
+                coarse: if bufs.history {
+                    self.coarse_history.clone()
+                } else {
+                    self.coarse.clone()
+                },
                 refine: self.refine.clone(),
                 pixels: self.grid_pixels.clone(),
                 reset: self.reset.clone(),
@@ -585,6 +597,7 @@ mod tests {
         for entry in [
             "clouds_pass",
             "clouds_grid_coarse",
+            "clouds_grid_coarse_history",
             "clouds_grid_refine",
             "clouds_grid_pixels",
             "clouds_edges_reset",
@@ -668,6 +681,8 @@ mod tests {
                 grid_dims,
                 grid_weight,
                 march_grid,
+                history,
+                history_shift,
             ]
         );
         assert_wgsl_layout(CLOUDS_WGSL, "Clouds", size_of::<CloudUniforms>(), &rust);

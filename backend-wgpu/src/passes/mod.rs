@@ -4,6 +4,7 @@
 pub mod atmosphere;
 pub mod clouds;
 pub mod clouds_amortise;
+pub mod clouds_history;
 pub mod lighting;
 pub mod luts;
 pub mod milkyway;

@@ -128,6 +128,13 @@ struct Clouds {
     // `LowCloudGrid`): the stride N (≤ 1: every pixel marched), the coarse
     // grid's nodes along x and y, 0
     march_grid: vec4<u32>,
+    // temporal reprojection (clouds_history.wgsl, cloud_history.rs
+    // `HistoryStep`): 1 when the last frame's nodes may serve, the phase of
+    // the quarter marched, bit a set when the lights of a frames ago are
+    // within `HISTORY_LIGHT_DEG`, `HISTORY_MAX_AGE`; the field's move since
+    // the last frame (km), `HISTORY_AGREE` and the negligible weight
+    history: vec4<u32>,
+    history_shift: vec4<f32>,
 }
 
 @group(1) @binding(0) var<uniform> clouds: Clouds;

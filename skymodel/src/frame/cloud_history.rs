@@ -37,6 +37,12 @@
 //! older than the frame before.
 //! [`HistoryUse`] counts the nodes reused and marched (`--stats`:
 //! `cloud_history`).
+//!
+//! The per-frame decisions — whether the history serves and why not, the
+//! quarter marched, the field's move, which ages' lights still hold — are
+//! [`HistoryClock::step`]'s, which the wgpu backend runs as well: it keeps
+//! the nodes in GPU buffers and ports `Kept::fetch` to WGSL
+//! (`backend-wgpu/src/passes/clouds_history.rs`).
 
 use std::collections::VecDeque;
 use std::fmt;
@@ -49,7 +55,8 @@ use super::pixels::PixelDirections;
 use crate::atmosphere::AtmosphereParams;
 use crate::clouds::{CloudHit, Shell};
 use crate::projection::Camera;
-use crate::scene::LowCloudSpec;
+use crate::scene::{LowCloudSpec, Scene};
+use crate::FramePlan;
 
 /// Frames over which every coarse node is marched once (a quarter per
 /// frame).
@@ -73,7 +80,7 @@ pub const HISTORY_LIGHT_DEG: f32 = 0.1;
 pub const HISTORY_AGREE: f32 = 0.1;
 
 /// Weights below this are left out of a reprojected node's corners.
-const NEGLIGIBLE: f32 = 1e-4;
+pub const HISTORY_NEGLIGIBLE: f32 = 1e-4;
 
 /// What must stay the same for the history to serve a frame.
 #[derive(Debug, Clone, PartialEq)]
@@ -89,6 +96,19 @@ pub struct HistoryKey {
     /// The atmosphere's parameters when the atmosphere pass runs (the air
     /// in front of the clouds).
     pub atmosphere: Option<AtmosphereParams>,
+}
+
+impl HistoryKey {
+    /// The key of `scene`'s frame `plan` with clouds `c` (both backends).
+    pub fn of(scene: &Scene, plan: &FramePlan, c: &CloudFrame) -> HistoryKey {
+        HistoryKey {
+            camera: scene.camera,
+            layer: scene.clouds.low,
+            shell: c.shell,
+            stride: c.march_stride as usize,
+            atmosphere: plan.luts.is_some().then(|| scene.atmosphere.clone()),
+        }
+    }
 }
 
 /// Why a frame did not use the history.
@@ -133,31 +153,128 @@ pub struct HistoryUse {
     pub miss: Option<HistoryMiss>,
 }
 
+/// What a history keeps of the last frame beside its nodes: the key, the
+/// field's wind offset and the lights of the last frames; and the frame
+/// count that picks each frame's quarter. Both backends decide each
+/// frame's use of their nodes with it ([`HistoryClock::step`]).
+#[derive(Debug, Clone, Default)]
+pub struct HistoryClock {
+    frame: usize,
+    last: Option<LastFrame>,
+}
+
+#[derive(Debug, Clone)]
+struct LastFrame {
+    key: HistoryKey,
+    /// The field's wind offset, km.
+    offset_km: Vec2,
+    /// The lights' directions of the last frames, newest last.
+    lights: VecDeque<Vec<Vec3>>,
+}
+
+/// A frame's use of the history, decided before its nodes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct HistoryStep {
+    /// Why the history cannot serve this frame (`None`: it can).
+    pub miss: Option<HistoryMiss>,
+    /// The quarter marched: the nodes (i, j) with
+    /// (i mod 2) + 2 (j mod 2) = `phase`.
+    pub phase: usize,
+    /// The field's move since the last frame, km (East, North).
+    pub delta_km: Vec2,
+    /// `lit[a]`: whether every light of `a` frames ago lies within
+    /// [`HISTORY_LIGHT_DEG`] of its direction now (`lit[0]` holds).
+    pub lit: [bool; HISTORY_PERIOD],
+}
+
+impl HistoryStep {
+    /// Whether the nodes (i, j) are marched this frame whatever the
+    /// history holds.
+    pub fn fresh(&self, i: usize, j: usize) -> bool {
+        (i % 2) + 2 * (j % 2) == self.phase
+    }
+}
+
+impl HistoryClock {
+    /// Forgets the last frame: the next one is a `first frame`.
+    pub fn clear(&mut self) {
+        self.last = None;
+    }
+
+    /// This frame's use of the history under `key`; keeps this frame's
+    /// key, wind offset and lights for the next.
+    pub fn step(&mut self, frame: &CloudFrame, key: HistoryKey) -> HistoryStep {
+        self.frame = self.frame.wrapping_add(1);
+        let lights: Vec<Vec3> = frame.light_sources().iter().map(|l| l.0).collect();
+        let offset_km = frame.low.as_ref().map_or(Vec2::ZERO, |f| f.offset_km);
+        let last = self.last.take();
+        let miss = match &last {
+            None => Some(HistoryMiss::First),
+            Some(k) if k.key.camera.image_size() != key.camera.image_size() => {
+                Some(HistoryMiss::Resized)
+            }
+            Some(k) if k.key.camera != key.camera => Some(HistoryMiss::CameraMoved),
+            Some(k) if k.key != key => Some(HistoryMiss::LayerChanged),
+            Some(k) if k.lights.back().map(Vec::len) != Some(lights.len()) => {
+                Some(HistoryMiss::LightsChanged)
+            }
+            Some(_) => None,
+        };
+        let mut lit = [true; HISTORY_PERIOD];
+        let (delta_km, mut ring) = match (last, miss) {
+            (Some(k), None) => {
+                for (age, l) in lit.iter_mut().enumerate().skip(1) {
+                    *l = age <= k.lights.len()
+                        && k.lights[k.lights.len() - age]
+                            .iter()
+                            .zip(&lights)
+                            .all(|(a, b)| a.angle_between(*b).to_degrees() <= HISTORY_LIGHT_DEG);
+                }
+                (offset_km - k.offset_km, k.lights)
+            }
+            _ => (Vec2::ZERO, VecDeque::new()),
+        };
+        ring.push_back(lights);
+        while ring.len() > HISTORY_PERIOD {
+            ring.pop_front();
+        }
+        self.last = Some(LastFrame {
+            key,
+            offset_km,
+            lights: ring,
+        });
+        HistoryStep {
+            miss,
+            phase: self.frame % HISTORY_PERIOD,
+            delta_km,
+            lit,
+        }
+    }
+}
+
 /// The last frame's coarse nodes.
 #[derive(Debug, Clone)]
 struct Kept {
-    key: HistoryKey,
+    camera: Camera,
+    stride: usize,
     xs: Vec<usize>,
     ys: Vec<usize>,
-    /// The field's wind offset, km.
-    offset_km: Vec2,
     nodes: Vec<Option<SeenHit>>,
     /// Frames since each node's value was marched (0: in that frame).
     ages: Vec<usize>,
-    /// The lights' directions of the last frames, newest last.
-    lights: VecDeque<Vec<Vec3>>,
 }
 
 /// The low layer's coarse grid kept from frame to frame by a renderer.
 #[derive(Debug, Clone, Default)]
 pub struct CloudHistory {
+    clock: HistoryClock,
     kept: Option<Kept>,
-    frame: usize,
 }
 
 impl CloudHistory {
     /// Forgets the kept frame.
     pub fn clear(&mut self) {
+        self.clock.clear();
         self.kept = None;
     }
 
@@ -172,28 +289,15 @@ impl CloudHistory {
         xs: &[usize],
         ys: &[usize],
     ) -> (Vec<Option<SeenHit>>, HistoryUse) {
-        self.frame = self.frame.wrapping_add(1);
-        let lights: Vec<Vec3> = frame.light_sources().iter().map(|l| l.0).collect();
-        let offset_km = frame.low.as_ref().map_or(Vec2::ZERO, |f| f.offset_km);
-        let kept = self.kept.take();
-        let miss = match &kept {
-            None => Some(HistoryMiss::First),
-            Some(k) if k.key.camera.image_size() != key.camera.image_size() => {
-                Some(HistoryMiss::Resized)
-            }
-            Some(k) if k.key.camera != key.camera => Some(HistoryMiss::CameraMoved),
-            Some(k) if k.key != key || k.xs != xs || k.ys != ys => Some(HistoryMiss::LayerChanged),
-            Some(k) if k.lights.back().map(Vec::len) != Some(lights.len()) => {
-                Some(HistoryMiss::LightsChanged)
-            }
-            Some(_) => None,
-        };
-        let (nodes, ages, used, mut ring) = match (kept, miss) {
-            (Some(k), None) => {
-                let (nodes, ages, used) = self.reproject(frame, dirs, &k, &lights, offset_km);
-                (nodes, ages, used, k.lights)
-            }
-            (_, miss) => {
+        let (camera, stride) = (key.camera, key.stride);
+        let step = self.clock.step(frame, key);
+        let kept = self
+            .kept
+            .take()
+            .filter(|k| k.xs == xs && k.ys == ys && step.miss.is_none());
+        let (nodes, ages, used) = match kept {
+            Some(k) => Self::reproject(frame, dirs, &k, &step),
+            None => {
                 let nodes: Vec<Option<SeenHit>> = march_nodes(frame, dirs, xs, ys, |_, _| true)
                     .into_iter()
                     .map(Option::flatten)
@@ -202,23 +306,18 @@ impl CloudHistory {
                     reused: 0,
                     marched: nodes.iter().filter(|n| n.is_some()).count(),
                     light_moved: 0,
-                    miss,
+                    miss: Some(step.miss.unwrap_or(HistoryMiss::First)),
                 };
-                (nodes.clone(), vec![0; nodes.len()], used, VecDeque::new())
+                (nodes, vec![0; xs.len() * ys.len()], used)
             }
         };
-        ring.push_back(lights);
-        while ring.len() > HISTORY_PERIOD {
-            ring.pop_front();
-        }
         self.kept = Some(Kept {
-            key,
+            camera,
+            stride,
             xs: xs.to_vec(),
             ys: ys.to_vec(),
-            offset_km,
             nodes: nodes.clone(),
             ages,
-            lights: ring,
         });
         (nodes, used)
     }
@@ -226,37 +325,26 @@ impl CloudHistory {
     /// This frame's nodes from the kept frame `k`: the phase's quarter and
     /// the nodes the history cannot give marched.
     fn reproject(
-        &self,
         frame: &CloudFrame,
         dirs: &PixelDirections,
         k: &Kept,
-        lights: &[Vec3],
-        offset_km: Vec2,
+        step: &HistoryStep,
     ) -> (Vec<Option<SeenHit>>, Vec<usize>, HistoryUse) {
-        let (nx, phase) = (k.xs.len(), self.frame % HISTORY_PERIOD);
-        let fresh = |i: usize, j: usize| (i % 2) + 2 * (j % 2) == phase;
-        // Whether the lights of `age` frames ago are within the tolerance.
-        let lit = |age: usize| {
-            age == 0
-                || age <= k.lights.len()
-                    && k.lights[k.lights.len() - age]
-                        .iter()
-                        .zip(lights)
-                        .all(|(a, b)| a.angle_between(*b).to_degrees() <= HISTORY_LIGHT_DEG)
-        };
-        let delta = offset_km - k.offset_km;
+        let nx = k.xs.len();
         let mut light_moved = 0;
         let mut from_history: Vec<Option<(Option<SeenHit>, usize)>> =
             Vec::with_capacity(k.nodes.len());
         for (j, &y) in k.ys.iter().enumerate() {
             for (i, &x) in k.xs.iter().enumerate() {
-                let got = if fresh(i, j) {
+                let got = if step.fresh(i, j) {
                     None
                 } else {
                     match dirs.dir(x, y) {
                         None => Some((None, 0)),
-                        Some(v) => match k.fetch(frame, v, delta, j * nx + i) {
-                            Some((hit, age)) if lit(age) => Some((Some(hit), age)),
+                        Some(v) => match k.fetch(frame, v, step.delta_km, j * nx + i) {
+                            Some((hit, age)) if step.lit.get(age) == Some(&true) => {
+                                Some((Some(hit), age))
+                            }
                             Some(_) => {
                                 light_moved += 1;
                                 None
@@ -330,13 +418,13 @@ impl Kept {
             0.5 * (t0 + t1)
         };
         let then = (v * d - delta.extend(0.0)).normalize_or_zero();
-        let (px, py) = self.key.camera.dir_to_pixel(then.as_dvec3())?;
+        let (px, py) = self.camera.dir_to_pixel(then.as_dvec3())?;
         let (fx, fy) = (px as f32 - 0.5, py as f32 - 0.5);
-        let (w, h) = self.key.camera.image_size();
+        let (w, h) = self.camera.image_size();
         if !(fx >= 0.0 && fy >= 0.0 && fx <= (w - 1) as f32 && fy <= (h - 1) as f32) {
             return None;
         }
-        let stride = self.key.stride;
+        let stride = self.stride;
         let i = cell(&self.xs, stride, fx as usize)?;
         let j = cell(&self.ys, stride, fy as usize)?;
         let span = |v: &[usize], k: usize, f: f32| {
@@ -360,7 +448,7 @@ impl Kept {
         let (mut used, mut age) = (Vec::with_capacity(4), 0);
         for k in 0..4 {
             q[k] = self.nodes.get(idx[k]).copied().flatten()?;
-            if wts[k] > NEGLIGIBLE {
+            if wts[k] > HISTORY_NEGLIGIBLE {
                 used.push(q[k]);
                 age = age.max(self.ages[idx[k]] + 1);
             }

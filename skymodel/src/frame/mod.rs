@@ -51,7 +51,9 @@ use std::time::Instant as Clock;
 use glam::DVec3;
 
 pub use cloud_grid::{grid_nodes, LowCloudGrid, AGREE_TRANSMITTANCE};
-pub use cloud_history::{CloudHistory, HistoryKey, HistoryMiss, HistoryUse};
+pub use cloud_history::{
+    CloudHistory, HistoryClock, HistoryKey, HistoryMiss, HistoryStep, HistoryUse,
+};
 pub use cloud_shadow::CloudShadowMap;
 pub use clouds::{CloudFrame, GridStore, GroundLight, SeenHit};
 pub use lights::{AerialPerspective, DirectLight, DirectLights, ObserverLights};

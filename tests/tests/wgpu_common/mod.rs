@@ -15,11 +15,19 @@ use himmel_cpu::CpuRenderer;
 use himmel_skymodel::atmosphere::LutConfig;
 use himmel_skymodel::{Effect, Projection, Scene, SkyRenderer, SkyState};
 
+/// The binary's renderer, its low clouds' history forgotten: each
+/// `gpu().render(..)` draws a frame of its own (a test of the history
+/// holds the guard over its sequence).
 pub fn gpu() -> std::sync::MutexGuard<'static, WgpuRenderer> {
     static R: OnceLock<Mutex<WgpuRenderer>> = OnceLock::new();
-    R.get_or_init(|| Mutex::new(WgpuRenderer::new(None).expect("a wgpu adapter (lavapipe in CI)")))
+    let mut r = R
+        .get_or_init(|| {
+            Mutex::new(WgpuRenderer::new(None).expect("a wgpu adapter (lavapipe in CI)"))
+        })
         .lock()
-        .unwrap_or_else(|e| e.into_inner())
+        .unwrap_or_else(|e| e.into_inner());
+    r.clear_cloud_history();
+    r
 }
 
 /// Relative luminance differences over the pixels valid in both images.
