@@ -10,11 +10,8 @@
 //! * FLIP (`nv-flip`) of the tone-mapped images.
 //!
 //! `cargo test -p himmel-tests --test world_mitsuba -- --nocapture` prints
-//! the table the README quotes. The bounds below are the goals
-//! (3 % lit, 5 % sky-lit, FLIP 0.05) for the atrium and the plane with
-//! boxes, and what this version achieves for the sun room (see the README
-//! for where its sky-lit error comes from): a change that makes any case
-//! worse fails.
+//! the table the README quotes. The bounds are the goals (3 % lit,
+//! 5 % sky-lit, FLIP 0.05) for every case.
 
 mod wgpu_common;
 mod world_common;
@@ -75,15 +72,11 @@ fn worlds_against_mitsuba() {
         &std::fs::read_to_string(root().join("tools/world_cases.json")).unwrap(),
     )
     .unwrap();
-    // The goals (lit 3 %, sky-lit 5 %, FLIP 0.05) where this
-    // version meets them; the sun room's FLIP under the low Sun (sky light
-    // through its window only) is bounded at what this version achieves on
-    // lavapipe, with a margin of about a quarter.
+    // The goals: lit 3 %, sky-lit 5 %, FLIP 0.05.
     let goal = (0.03, 0.05, 0.05);
     let bounds = |name: &str| -> (f64, f64, f64) {
         match name {
-            "sun_room_high" | "sun_room_night" => goal,
-            "sun_room_low" => (0.01, 0.05, 0.09),
+            "sun_room_high" | "sun_room_low" | "sun_room_night" => goal,
             "atrium_high" | "atrium_low" | "atrium_night" => goal,
             "plane_and_boxes_high" | "plane_and_boxes_low" | "plane_and_boxes_night" => goal,
             other => panic!("no bounds for case {other}"),

@@ -165,6 +165,7 @@ impl Pipelines {
             concat!(
                 include_str!("../../shaders/lighting/common.wgsl"),
                 include_str!("../../shaders/lighting/shade.wgsl"),
+                include_str!("../../shaders/lighting/sky_cells.wgsl"),
                 include_str!("../../shaders/lighting/sky_gather.wgsl"),
                 include_str!("../../shaders/lighting/shafts_gather.wgsl")
             ),

@@ -529,7 +529,7 @@ impl ShadeTables {
         };
         ShadeTables {
             cells: storage::<20>(gpu, "sky cells", &[]),
-            parts: storage::<12>(gpu, "sky cell parts", &[]),
+            parts: storage::<16>(gpu, "sky cell parts", &[]),
             specular: view(&specular_tex, wgpu::TextureViewDimension::D2Array),
             specular_tex,
             brdf: view(&brdf_tex, wgpu::TextureViewDimension::D2),
