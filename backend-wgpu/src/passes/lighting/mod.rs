@@ -19,7 +19,8 @@
 //! 5. **lighting** (`shade.wgsl`) — the Sun and Moon (Lambert + GGX,
 //!    filtered shadows), the sky (occluded diffuse cells, prefiltered
 //!    specular; the sky's cells are split over an N × N block of pixels
-//!    and gathered back, `sky` in `shade.wgsl`, `gather` in `sky_gather.wgsl`), emission,
+//!    and gathered back, `sky` in `shade.wgsl`, each cell through its
+//!    visibility map in `sky_cells.wgsl`, `gather` in `sky_gather.wgsl`), emission,
 //!    fog and aerial perspective, written into the
 //!    target where the G-buffer has a surface; before it, when `godrays`
 //!    runs, the fog's in-scattering marched along the view rays
