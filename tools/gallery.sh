@@ -40,9 +40,12 @@ ls -l "$out"
 # under a full Moon.
 w=tests/fixtures/worlds
 world=(--backend wgpu --projection perspective --fov 60 --width 480 --height 270)
-"$himmel" render "${world[@]}" --world $w/sun_room.glb --time 2024-04-15T11:45:00Z --lat 48.14 --lon 11.58 \
+# The sun room with its cases' sky-light settings (cells in parts for the
+# window, 3 x 3 sets of 192 directions: tools/sun_room_lighting.json).
+room=(--scene tools/sun_room_lighting.json --world $w/sun_room.glb)
+"$himmel" render "${world[@]}" "${room[@]}" --time 2024-04-15T11:45:00Z --lat 48.14 --lon 11.58 \
   --camera-pos=-2.2,1.6,-2 --look-at=0.2,0,1.3 --exposure 12 --output "$out/world-sun-room-noon.png"
-"$himmel" render "${world[@]}" --world $w/sun_room.glb --time 2024-12-21T11:45:00Z --lat 56.5 --lon 10 \
+"$himmel" render "${world[@]}" "${room[@]}" --time 2024-12-21T11:45:00Z --lat 56.5 --lon 10 \
   --camera-pos=2.4,1.6,2.1 --look-at=-0.6,0.6,-2.5 --output "$out/world-sun-room-winter.png"
 "$himmel" render "${world[@]}" --world $w/atrium.glb --time 2024-06-21T15:00:00Z --lat 48.14 --lon 11.58 \
   --camera-pos=8,1.7,8 --look-at=-5,3,-5 --exposure 14 --output "$out/world-atrium.png"
