@@ -105,3 +105,20 @@ fn worlds_against_mitsuba() {
     }
     assert!(failures.is_empty(), "{failures:#?}");
 }
+
+/// The README gallery's sun room (`tools/gallery.sh`,
+/// `--scene tools/sun_room_lighting.json`) uses the sky-light settings
+/// its cases are measured with.
+#[test]
+fn the_gallery_sun_room_has_the_cases_settings() {
+    let read = |p: &str| -> Value {
+        serde_json::from_str(&std::fs::read_to_string(root().join(p)).unwrap()).unwrap()
+    };
+    let gallery = read("tools/sun_room_lighting.json");
+    let cases = read("tools/world_cases.json");
+    for c in cases["cases"].as_array().unwrap() {
+        if c["name"].as_str().unwrap().starts_with("sun_room") {
+            assert_eq!(c["lighting"], gallery["lighting"], "{}", c["name"]);
+        }
+    }
+}
