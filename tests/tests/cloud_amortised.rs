@@ -12,28 +12,11 @@
 mod world_common;
 
 use himmel_cpu::CpuRenderer;
-use himmel_skymodel::atmosphere::LutConfig;
 use himmel_skymodel::frame::{CloudFrame, LowCloudGrid, PixelDirections};
-use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
+use himmel_skymodel::{Effect, HdrImage, Scene, SkyRenderer, SkyState};
 use world_common::changes::flicker;
+use world_common::cloud_sequence::scene;
 use world_common::metrics::{flip, RgbImage};
-
-/// Cumulus over Munich on a summer morning, fisheye `n` × `n`.
-fn scene(n: u32, stride: u32, utc: &str) -> Scene {
-    let mut s = Scene::default();
-    s.time.utc = utc.into();
-    s.observer.lat_deg = 48.14;
-    s.observer.lon_deg = 11.58;
-    s.effects = vec![Effect::Atmosphere, Effect::Sun, Effect::Clouds];
-    s.camera.projection = Projection::Fisheye;
-    s.camera.width = n;
-    s.camera.height = n;
-    s.lut = LutConfig::small();
-    s.clouds.low.coverage = 0.5;
-    s.clouds.low.wind_m_s = [0.0, 0.0];
-    s.clouds.low.march_stride = stride;
-    s
-}
 
 fn render(s: &Scene) -> HdrImage {
     let state = SkyState::at(s).expect("state");
@@ -75,8 +58,8 @@ fn marched(s: &Scene) -> (usize, usize) {
 fn amortised_march_is_eight_times_cheaper_at_flip_005() {
     let utc = "2024-06-21T08:00:00Z";
     let n = 640;
-    let full = rgb(&render(&scene(n, 1, utc)));
-    let s = scene(n, 4, utc);
+    let full = rgb(&render(&scene(n, 1, utc, 0.0)));
+    let s = scene(n, 4, utc, 0.0);
     let amortised = rgb(&render(&s));
     let (rays, sky) = marched(&s);
     let saving = sky as f64 / rays as f64;
@@ -103,10 +86,13 @@ fn moving_sun_over_static_clouds_does_not_flicker() {
         "2024-06-21T08:03:00Z",
     ];
     let seq = |stride: u32| -> Vec<HdrImage> {
-        times.iter().map(|t| render(&scene(n, stride, t))).collect()
+        times
+            .iter()
+            .map(|t| render(&scene(n, stride, t, 0.0)))
+            .collect()
     };
     let (full, amortised) = (seq(1), seq(4));
-    let mut clear = scene(n, 1, times[0]);
+    let mut clear = scene(n, 1, times[0], 0.0);
     clear.effects.retain(|e| *e != Effect::Clouds);
     let clear = render(&clear);
     let (fl, cf, ca) = flicker(&full, &amortised, &clear);

@@ -27,38 +27,14 @@ mod wgpu_common;
 mod world_common;
 
 use himmel_cpu::CpuRenderer;
-use himmel_skymodel::atmosphere::LutConfig;
 use himmel_skymodel::frame::{HistoryMiss, HistoryUse};
 use himmel_skymodel::spectrum::luminance;
 use himmel_skymodel::{Effect, HdrImage, Projection, Scene, SkyRenderer, SkyState};
 use himmel_wgpu::WgpuRenderer;
 use wgpu_common::{assert_parity, gpu, percentile};
 use world_common::changes::flicker;
+use world_common::cloud_sequence::{scene, utc};
 use world_common::metrics::{flip, RgbImage};
-
-/// Cumulus over Munich on a summer morning, fisheye `n` × `n`, wind
-/// `wind` m/s towards the east (the CPU test's scene).
-fn scene(n: u32, stride: u32, utc: &str, wind: f64) -> Scene {
-    let mut s = Scene::default();
-    s.time.utc = utc.into();
-    s.observer.lat_deg = 48.14;
-    s.observer.lon_deg = 11.58;
-    s.effects = vec![Effect::Atmosphere, Effect::Sun, Effect::Clouds];
-    s.camera.projection = Projection::Fisheye;
-    s.camera.width = n;
-    s.camera.height = n;
-    s.lut = LutConfig::small();
-    s.clouds.low.coverage = 0.5;
-    s.clouds.low.wind_m_s = [wind, 0.0];
-    s.clouds.low.march_stride = stride;
-    s
-}
-
-/// `2024-06-21T08:00:SS` plus `k` × `step_s` seconds.
-fn utc(k: u32, step_s: u32) -> String {
-    let t = k * step_s;
-    format!("2024-06-21T08:{:02}:{:02}Z", t / 60, t % 60)
-}
 
 /// The frame of `s` from renderer `r` and what its history gave.
 fn render(r: &mut impl SkyRenderer, s: &Scene) -> (HdrImage, Option<HistoryUse>) {

@@ -6,6 +6,7 @@
 
 pub mod cases;
 pub mod changes;
+pub mod cloud_sequence;
 pub mod metrics;
 pub mod render;
 pub mod shafts;
