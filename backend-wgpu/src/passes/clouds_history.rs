@@ -146,13 +146,7 @@ impl GpuCloudHistory {
         );
         let Some((key, c)) = key else {
             self.step = None;
-            let lattice = grown(
-                gpu,
-                &mut self.lattices[self.current],
-                "cloud march lattice",
-                bytes,
-                usage,
-            );
+            let lattice = self.lattice(gpu, self.current, bytes);
             (u.history, u.history_shift) = history_uniforms(None);
             return LatticeBuffers {
                 lattice,
@@ -164,20 +158,8 @@ impl GpuCloudHistory {
         let step = self.clock.step(c, key);
         let prev = self.current;
         self.current = 1 - prev;
-        let lattice = grown(
-            gpu,
-            &mut self.lattices[self.current],
-            "cloud march lattice",
-            bytes,
-            usage,
-        );
-        let prev = grown(
-            gpu,
-            &mut self.lattices[prev],
-            "cloud march lattice",
-            bytes,
-            usage,
-        );
+        let lattice = self.lattice(gpu, self.current, bytes);
+        let prev = self.lattice(gpu, prev, bytes);
         gpu.queue
             .write_buffer(&counters, 0, &[0u8; COUNTER_BYTES as usize]);
         (u.history, u.history_shift) = history_uniforms(Some(&step));
@@ -188,6 +170,17 @@ impl GpuCloudHistory {
             counters,
             history: true,
         }
+    }
+
+    /// Lattice buffer `i` (of the two that alternate), of at least `bytes`.
+    fn lattice(&mut self, gpu: &Gpu, i: usize, bytes: u64) -> wgpu::Buffer {
+        grown(
+            gpu,
+            &mut self.lattices[i],
+            "cloud march lattice",
+            bytes,
+            wgpu::BufferUsages::STORAGE,
+        )
     }
 
     /// What the history gave the last frame (`None`: it kept none): the

@@ -44,3 +44,24 @@ pub fn flicker(full: &[HdrImage], other: &[HdrImage], clear: &HdrImage) -> (f64,
     }
     (p99(flicker), p99(change_full), p99(change_other))
 }
+
+/// Prints the [`flicker`] figures of `other` against `full` (`what`
+/// names the sequence) and asserts the flicker's p99 is at most `bound`
+/// (a fraction).
+pub fn assert_flicker_at_most(
+    what: &str,
+    full: &[HdrImage],
+    other: &[HdrImage],
+    clear: &HdrImage,
+    bound: f64,
+) {
+    let (fl, cf, ca) = flicker(full, other, clear);
+    eprintln!(
+        "{what}: frame-to-frame change p99 {:.2} % drawn so, {:.2} % full march; \
+         flicker (their difference) p99 {:.3} %",
+        ca * 100.0,
+        cf * 100.0,
+        fl * 100.0
+    );
+    assert!(fl <= bound, "{what}: flicker p99 {:.2} %", fl * 100.0);
+}

@@ -28,3 +28,11 @@ pub fn utc(k: u32, step_s: u32) -> String {
     let t = k * step_s;
     format!("2024-06-21T08:{:02}:{:02}Z", t / 60, t % 60)
 }
+
+/// [`scene`] without its clouds (the clear sky that tells the cloud
+/// pixels of a frame).
+pub fn clear(n: u32, utc: &str) -> Scene {
+    let mut s = scene(n, 1, utc, 0.0);
+    s.effects.retain(|e| *e != Effect::Clouds);
+    s
+}
